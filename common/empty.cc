@@ -1,0 +1,1 @@
+// Placeholder so a stage with only main.cpp still has a (empty) library.

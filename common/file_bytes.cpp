@@ -1,0 +1,35 @@
+#include "common/file_bytes.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include "common/error.h"
+
+namespace syn {
+namespace {
+
+template <typename Buffer>
+Buffer ReadAll(const std::string& path) {
+  std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!file) throw DataError(Location::InFile(path), std::string("cannot open: ") + std::strerror(errno));
+  if (std::fseek(file.get(), 0, SEEK_END) != 0) {
+    throw DataError(Location::InFile(path), "cannot seek (not a regular file?)");
+  }
+  const long size = std::ftell(file.get());
+  if (size < 0) throw DataError(Location::InFile(path), "cannot tell file size");
+  std::rewind(file.get());
+  Buffer bytes(static_cast<size_t>(size), 0);
+  if (size > 0 && std::fread(bytes.data(), 1, bytes.size(), file.get()) != bytes.size()) {
+    throw DataError(Location::InFile(path), std::string("read failed: ") + std::strerror(errno));
+  }
+  return bytes;
+}
+
+}  // namespace
+
+std::vector<uint8_t> ReadFileBytes(const std::string& path) { return ReadAll<std::vector<uint8_t>>(path); }
+std::string ReadFileText(const std::string& path) { return ReadAll<std::string>(path); }
+
+}  // namespace syn
