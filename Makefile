@@ -1,0 +1,104 @@
+# synsculpt — the user's entry point.
+#
+#   make                  set up (Debian packages), build, run the demo archive
+#   make test             build and run every test (ctest)
+#   make bench            Google Benchmark programs: per-call times and frames per second per stage
+#   make sanitize-test    the test suite on an ASan+UBSan debug build
+#   make fuzz-smoke       each format reader's libFuzzer target for FUZZ_SECONDS (clang)
+#
+# Variables: BUILD_DIR (build), BUILD_TYPE (Release), JOBS (nproc), CMAKE_FLAGS.
+
+SHELL := /bin/bash
+BUILD_DIR ?= build
+BUILD_TYPE ?= Release
+JOBS ?= $(shell nproc)
+CMAKE_FLAGS ?=
+FUZZ_SECONDS ?= 60
+BIN := $(BUILD_DIR)/bin
+
+# Everything synsculpt needs, as Debian 12 packages. Nothing is downloaded at build time.
+DEBIAN_PACKAGES := cmake g++ make libeigen3-dev libsimbody-dev libceres-dev libsuitesparse-dev libhdf5-dev \
+  nlohmann-json3-dev libcli11-dev libtomlplusplus-dev libtinyxml2-dev libssl-dev libgtest-dev libbenchmark-dev \
+  python3 python3-matplotlib python3-h5py
+# Only for `make fuzz-smoke`: libFuzzer ships with clang's runtime.
+FUZZ_PACKAGES := clang libclang-rt-14-dev
+
+.PHONY: all setup setup-fuzz configure build test bench demo sanitize-test fuzz-smoke clean print-packages
+.DEFAULT_GOAL := all
+
+all: demo
+
+print-packages:
+	@echo $(DEBIAN_PACKAGES)
+
+# Installs what is missing when run as root; otherwise prints the exact command and stops.
+define install_missing
+	@missing=$$(for package in $(1); do \
+	  dpkg-query -W -f='$${Status}\n' $$package 2>/dev/null | grep -q 'install ok installed' || echo $$package; \
+	done | tr '\n' ' '); \
+	if [ -n "$${missing// }" ]; then \
+	  if [ "$$(id -u)" = 0 ]; then \
+	    echo "make: installing Debian packages: $$missing"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing; \
+	  else \
+	    echo "make: missing Debian packages. Install them with:"; \
+	    echo "  sudo apt-get install -y --no-install-recommends $$missing"; \
+	    exit 1; \
+	  fi; \
+	fi
+endef
+
+setup:
+	$(call install_missing,$(DEBIAN_PACKAGES))
+
+setup-fuzz: setup
+	$(call install_missing,$(FUZZ_PACKAGES))
+
+$(BUILD_DIR)/CMakeCache.txt:
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) $(CMAKE_FLAGS)
+
+configure: setup $(BUILD_DIR)/CMakeCache.txt
+
+build: configure
+	cmake --build $(BUILD_DIR) -j$(JOBS)
+
+test: build
+	ctest --test-dir $(BUILD_DIR) --output-on-failure -j$(JOBS)
+
+bench: build
+	@for program in $(BIN)/*_benchmark; do echo "== $$(basename $$program)"; $$program --benchmark_counters_tabular=true || exit 1; done
+
+sanitize-test: setup
+	$(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=Debug CMAKE_FLAGS="-DSYN_SANITIZE=ON -DSYN_BENCH=OFF $(CMAKE_FLAGS)"
+
+fuzz-smoke: setup-fuzz
+	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYN_FUZZ=ON -DSYN_BENCH=OFF
+	cmake --build build-fuzz -j$(JOBS)
+	@for fuzzer in build-fuzz/bin/*_fuzzer; do \
+	  name=$$(basename $$fuzzer); corpus=build-fuzz/corpus/$$name; mkdir -p $$corpus; \
+	  echo "== $$name: $(FUZZ_SECONDS) s"; \
+	  $$fuzzer -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1 \
+	    -artifact_prefix=build-fuzz/ $$corpus tests/fuzz/seeds/$${name%_fuzzer} 2>&1 | tail -n 12 || exit 1; \
+	done
+
+# ---- the demo archive (datasets/demo): the stages that exist so far ------------
+DEMO_CAPTURES := $(wildcard datasets/demo/*.bvh)
+DEMO_MARKERS := $(patsubst datasets/demo/%.bvh,outputs/demo/%.markers.h5,$(DEMO_CAPTURES))
+
+demo: build
+	@$(MAKE) --no-print-directory demo-outputs
+	@echo "make: demo done: $(words $(DEMO_MARKERS)) trials in outputs/demo/"
+
+.PHONY: demo-outputs
+demo-outputs: $(DEMO_MARKERS)
+
+# CMU mb2 and daz conversions add a T-pose first frame; the 3dsMax-friendly excerpt does not.
+DEMO_INGEST_FLAGS = --drop-first-frame
+outputs/demo/14_14_excerpt.markers.h5: DEMO_INGEST_FLAGS =
+
+outputs/demo/%.markers.h5: datasets/demo/%.bvh $(BIN)/syn-ingest
+	@mkdir -p $(@D)
+	$(BIN)/syn-ingest $< -o $@ $(DEMO_INGEST_FLAGS)
+
+clean:
+	rm -rf $(BUILD_DIR) build-sanitize build-fuzz outputs

@@ -1,0 +1,64 @@
+// Command-line conventions shared by every syn-* tool (DESIGN.md,
+// "Conventions"): `syn-<stage> INPUT... -o OUTPUT [--flags]`, `--help`,
+// `--version`, `-v`; exit 0 ok, 1 bad data or failure, 2 bad usage.
+//
+// Include this only from stages/*/main.cpp: CLI11 is header-only here and
+// costs seconds per translation unit.
+#pragma once
+
+#include <functional>
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "common/error.h"
+#include "common/version.h"
+
+namespace syn {
+
+// Flags every tool has.
+struct CommonFlags {
+  std::string output;
+  bool verbose = false;
+};
+
+// Registers --version and -v; with `with_output`, the required -o OUTPUT.
+inline void AddCommonFlags(CLI::App& app, CommonFlags& flags, bool with_output = true) {
+  app.set_version_flag("--version", std::string(app.get_name()) + " " + kVersion);
+  app.add_flag("-v,--verbose", flags.verbose, "Print resolved parameters and per-item detail on stderr");
+  if (with_output) {
+    app.add_option("-o,--output", flags.output, "Output file (written to a temporary name, then renamed)")
+        ->required();
+  }
+}
+
+// Parses the command line and runs `body`, translating every failure into
+// one message on stderr and the documented exit code. This is the only place
+// where exceptions become exit codes.
+inline int RunTool(CLI::App& app, int argc, char** argv, const std::function<void()>& body) {
+  const std::string tool = app.get_name();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& done) {  // --help, --version
+    return app.exit(done);
+  } catch (const CLI::ParseError& error) {
+    app.exit(error);
+    return 2;
+  }
+  try {
+    body();
+    return 0;
+  } catch (const UsageError& error) {
+    std::cerr << tool << ": usage error: " << error.what() << "\nRun " << tool << " --help for usage.\n";
+    return 2;
+  } catch (const DataError& error) {
+    std::cerr << tool << ": error: " << error.what() << "\n";
+    return 1;
+  } catch (const std::exception& error) {
+    std::cerr << tool << ": internal error (please report): " << error.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace syn
