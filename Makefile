@@ -1,6 +1,7 @@
 # synsculpt — the user's entry point.
 #
-#   make                  set up (Debian packages), build, run the demo archive
+#   make                  set up (Debian packages), build, run the demo archive (manifests/demo.toml)
+#   make run MANIFEST=manifests/X.toml [DATASET_ROOT=...] -jN   the pipeline on any archive
 #   make test             build and run every test (ctest)
 #   make bench            Google Benchmark programs: per-call times and frames per second per stage
 #   make sanitize-test    the test suite on an ASan+UBSan debug build
@@ -23,7 +24,7 @@ DEBIAN_PACKAGES := cmake g++ make libeigen3-dev libsimbody-dev libceres-dev libs
 # Only for `make fuzz-smoke`: libFuzzer ships with clang's runtime.
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 
-.PHONY: all setup setup-fuzz configure build test bench demo sanitize-test fuzz-smoke clean print-packages
+.PHONY: all setup setup-fuzz configure build test bench demo run sanitize-test fuzz-smoke clean print-packages
 .DEFAULT_GOAL := all
 
 all: demo
@@ -81,24 +82,20 @@ fuzz-smoke: setup-fuzz
 	    -artifact_prefix=build-fuzz/ $$corpus tests/fuzz/seeds/$${name%_fuzzer} 2>&1 | tail -n 12 || exit 1; \
 	done
 
-# ---- the demo archive (datasets/demo): the stages that exist so far ------------
-DEMO_CAPTURES := $(wildcard datasets/demo/*.bvh)
-DEMO_MARKERS := $(patsubst datasets/demo/%.bvh,outputs/demo/%.markers.h5,$(DEMO_CAPTURES))
+# ---- manifest-driven runs ---------------------------------------------------------
+# `make run MANIFEST=manifests/X.toml [DATASET_ROOT=...] -jN`: syn-plan checks the manifest and writes
+# outputs/<name>/rules.mk (parameter stamps change only when parameters do); make then runs exactly the
+# jobs whose inputs, parameters or stage binaries changed, in parallel.
+MANIFEST ?= manifests/demo.toml
+MANIFEST_NAME = $(shell sed -n 's/^name *= *"\(.*\)".*/\1/p' $(MANIFEST) | head -n 1)
 
-demo: build
-	@$(MAKE) --no-print-directory demo-outputs
-	@echo "make: demo done: $(words $(DEMO_MARKERS)) trials in outputs/demo/"
+run: build
+	@$(BIN)/syn-plan $(MANIFEST) -o outputs/$(MANIFEST_NAME)/rules.mk $(if $(DATASET_ROOT),--dataset-root $(DATASET_ROOT))
+	@$(MAKE) --no-print-directory -f outputs/$(MANIFEST_NAME)/rules.mk SYN_BIN=$(BIN) all
+	@echo "make: $(MANIFEST_NAME): all jobs up to date in outputs/$(MANIFEST_NAME)/"
 
-.PHONY: demo-outputs
-demo-outputs: $(DEMO_MARKERS)
-
-# CMU mb2 and daz conversions add a T-pose first frame; the 3dsMax-friendly excerpt does not.
-DEMO_INGEST_FLAGS = --drop-first-frame
-outputs/demo/14_14_excerpt.markers.h5: DEMO_INGEST_FLAGS =
-
-outputs/demo/%.markers.h5: datasets/demo/%.bvh $(BIN)/syn-ingest
-	@mkdir -p $(@D)
-	$(BIN)/syn-ingest $< -o $@ $(DEMO_INGEST_FLAGS)
+demo:
+	@$(MAKE) --no-print-directory run MANIFEST=manifests/demo.toml
 
 clean:
 	rm -rf $(BUILD_DIR) build-sanitize build-fuzz outputs
