@@ -1,0 +1,61 @@
+// Robot maps (manifests/robots/NAME.toml): which robot link tracks which
+// landmark, how (pose / orientation / position), at which priority, and the
+// robot's reference stance and foot soles.
+//
+// Defaults follow the paper's Table I: priority 1 pelvis, feet and hands
+// pose, head orientation; priority 2 upper torso and elbows orientation;
+// priority 3 joint posture toward the reference stance. The retargeter's
+// least-squares IK realises priorities as weights: a task's residual is
+// multiplied by priority_weights[level - 1] × weight (defaults 1, 0.1, 0.01,
+// i.e. each level counts 100× less in the squared cost than the one above).
+#pragma once
+
+#include <array>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace syn {
+
+enum class TaskType { kPose, kOrientation, kPosition };
+
+struct RobotTask {
+  std::string landmark;  // one of kLandmarkNames
+  std::string link;      // URDF link name
+  TaskType type = TaskType::kPose;
+  int priority = 1;      // 1 (highest) .. 3
+  double weight = 1.0;
+  int line = 0;
+};
+
+struct RobotFoot {
+  std::string side;  // "left" or "right"
+  std::string link;
+  std::vector<std::array<double, 3>> sole_points;  // in the link frame, metres
+  int line = 0;
+};
+
+struct RobotMap {
+  std::string file;
+  std::string robot;
+  std::string floating_base = "auto";
+  std::vector<RobotTask> tasks;
+  std::array<double, 3> priority_weights = {1.0, 0.1, 0.01};
+  int posture_priority = 3;
+  double posture_weight = 1.0;
+  std::map<std::string, double> reference_stance;  // joint name -> q (rad or m); others 0
+  std::vector<RobotFoot> feet;
+};
+
+[[nodiscard]] std::string TaskTypeName(TaskType type);
+
+[[nodiscard]] RobotMap LoadRobotMap(const std::string& path);
+[[nodiscard]] RobotMap ParseRobotMap(const std::string& toml_text, const std::string& file_name);
+
+// Checks every link and joint name against the model: `has_link(name)`,
+// `has_joint(name)`. A missing one is a DataError at the map's line.
+void CheckRobotMapNames(const RobotMap& map, const std::function<bool(const std::string&)>& has_link,
+                        const std::function<bool(const std::string&)>& has_joint, const std::string& model_name);
+
+}  // namespace syn

@@ -1,0 +1,77 @@
+#include "stages/retarget/robot_map.h"
+
+#include <gtest/gtest.h>
+#include <tinyxml2.h>
+
+#include <set>
+
+#include "common/error.h"
+#include "tests/support/shared_data.h"
+
+namespace syn {
+namespace {
+
+TEST(RobotMap, G1FollowsTableOne) {
+  const RobotMap map = LoadRobotMap(testing::SourcePath("manifests/robots/g1.toml"));
+  ASSERT_EQ(map.tasks.size(), 9u);
+  std::map<std::string, std::pair<TaskType, int>> expected = {
+      {"pelvis", {TaskType::kPose, 1}},          {"left_foot", {TaskType::kPose, 1}},
+      {"right_foot", {TaskType::kPose, 1}},      {"left_hand", {TaskType::kPose, 1}},
+      {"right_hand", {TaskType::kPose, 1}},      {"head", {TaskType::kOrientation, 1}},
+      {"upper_torso", {TaskType::kOrientation, 2}}, {"left_elbow", {TaskType::kOrientation, 2}},
+      {"right_elbow", {TaskType::kOrientation, 2}}};
+  for (const RobotTask& task : map.tasks) {
+    ASSERT_TRUE(expected.count(task.landmark)) << task.landmark;
+    EXPECT_EQ(task.type, expected[task.landmark].first) << task.landmark;
+    EXPECT_EQ(task.priority, expected[task.landmark].second) << task.landmark;
+  }
+  EXPECT_EQ(map.posture_priority, 3);
+  ASSERT_EQ(map.feet.size(), 2u);
+  EXPECT_EQ(map.feet[0].sole_points.size(), 4u);
+}
+
+TEST(RobotMap, G1LinksExistInTheBundledUrdf) {
+  const RobotMap map = LoadRobotMap(testing::SourcePath("manifests/robots/g1.toml"));
+  // Link names read straight from the URDF, independently of our loader.
+  tinyxml2::XMLDocument urdf;
+  ASSERT_EQ(urdf.LoadFile(testing::SourcePath("datasets/robots/unitree_g1/g1_29dof.urdf").c_str()), tinyxml2::XML_SUCCESS);
+  std::set<std::string> links, joints;
+  for (auto* link = urdf.RootElement()->FirstChildElement("link"); link; link = link->NextSiblingElement("link")) {
+    links.insert(link->Attribute("name"));
+  }
+  for (auto* joint = urdf.RootElement()->FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
+    joints.insert(joint->Attribute("name"));
+  }
+  EXPECT_NO_THROW(CheckRobotMapNames(
+      map, [&](const std::string& name) { return links.count(name) > 0; },
+      [&](const std::string& name) { return joints.count(name) > 0; }, "g1_29dof.urdf"));
+  links.erase("torso_link");
+  try {
+    CheckRobotMapNames(
+        map, [&](const std::string& name) { return links.count(name) > 0; },
+        [&](const std::string& name) { return joints.count(name) > 0; }, "g1_29dof.urdf");
+    FAIL() << "a missing link was accepted";
+  } catch (const DataError& error) {
+    EXPECT_NE(std::string(error.what()).find("g1.toml:"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("torso_link"), std::string::npos) << error.what();
+  }
+}
+
+TEST(RobotMap, MistakesAreReportedAtTheirLine) {
+  const auto line_of = [](const std::string& text) {
+    try {
+      (void)ParseRobotMap(text, "bad.toml");
+    } catch (const DataError& error) {
+      return error.where().line;
+    }
+    return int64_t{-1};
+  };
+  EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\ntype = \"twist\"\n"), 4);
+  EXPECT_EQ(line_of("[[task]]\nlandmark = \"nose\"\nlink = \"p\"\n"), 2);
+  EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\npriority = 4\n"), 4);
+  EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n[[task]]\nlandmark = \"pelvis\"\nlink = \"q\"\n"), 4);
+  EXPECT_EQ(line_of("robot = \"x\"\nspeed = 3\n"), 2);
+}
+
+}  // namespace
+}  // namespace syn
