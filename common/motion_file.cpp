@@ -1,0 +1,56 @@
+#include "common/motion_file.h"
+
+#include "common/error.h"
+
+namespace syn {
+
+void WriteMotionData(IntermediateWriter& writer, const MotionData& motion) {
+  const int64_t frames = motion.frames();
+  writer.writeDoubles("time", motion.time_s);
+  writer.writeStrings("coordinate_names", motion.coordinate_names);
+  writer.writeStrings("velocity_names", motion.velocity_names);
+  writer.writeDoubles("q", {frames, motion.nq()}, motion.q.data());
+  writer.writeDoubles("u", {frames, motion.nu()}, motion.u.data());
+  writer.writeDoubles("udot", {frames, motion.nu()}, motion.udot.data());
+  writer.writeDoubles("tau", {frames, motion.nu()}, motion.tau.data());
+  if (!motion.landmark_names.empty()) {
+    const int64_t landmarks = static_cast<int64_t>(motion.landmark_names.size());
+    writer.writeStrings("landmark_names", motion.landmark_names);
+    writer.writeDoubles("landmark_targets", {frames, landmarks, 7}, motion.landmark_targets.data());
+    writer.writeDoubles("landmark_error", {frames, landmarks, 2}, motion.landmark_error.data());
+  }
+  writer.writeAttribute("", "model_name", motion.model_name);
+  writer.writeAttribute("", "model_sha256", motion.model_sha256);
+  writer.writeAttribute("", "total_mass", motion.total_mass);
+}
+
+MotionData ReadMotionFile(const std::string& path) {
+  IntermediateReader reader(path, kMotionSchema, kMotionSchemaVersion);
+  MotionData motion;
+  motion.time_s = reader.readDoubles("time").values;
+  motion.coordinate_names = reader.readStrings("coordinate_names");
+  motion.velocity_names = reader.readStrings("velocity_names");
+  const auto read = [&](const char* name, int64_t width, std::vector<double>& into) {
+    DoubleArray array = reader.readDoubles(name);
+    if (array.dims.size() != 2 || array.dims[0] != motion.frames() || array.dims[1] != width) {
+      throw DataError(Location::InFile(path), std::string("dataset '") + name + "' should be [" +
+                                                 std::to_string(motion.frames()) + ", " + std::to_string(width) + "]");
+    }
+    into = std::move(array.values);
+  };
+  read("q", motion.nq(), motion.q);
+  read("u", motion.nu(), motion.u);
+  read("udot", motion.nu(), motion.udot);
+  read("tau", motion.nu(), motion.tau);
+  if (reader.has("landmark_names")) {
+    motion.landmark_names = reader.readStrings("landmark_names");
+    motion.landmark_targets = reader.readDoubles("landmark_targets").values;
+    motion.landmark_error = reader.readDoubles("landmark_error").values;
+  }
+  motion.model_name = reader.readStringAttribute("", "model_name");
+  motion.model_sha256 = reader.readStringAttribute("", "model_sha256");
+  motion.total_mass = reader.readDoubleAttribute("", "total_mass");
+  return motion;
+}
+
+}  // namespace syn
