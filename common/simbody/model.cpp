@@ -1,0 +1,444 @@
+// The Simbody side of common/model.h. Compiled as C++17 with -UNDEBUG (see
+// CMakeLists.txt); nothing from here leaks into public headers.
+#include "common/model.h"
+
+#include <Simbody.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+
+#include "common/error.h"
+#include "common/file_bytes.h"
+#include "common/sha256.h"
+#include "common/urdf.h"
+
+namespace syn {
+namespace {
+
+SimTK::Transform ToSimbody(const Eigen::Isometry3d& pose) {
+  const Eigen::Matrix3d& r = pose.linear();
+  const SimTK::Mat33 rotation(r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2));
+  const Eigen::Vector3d& t = pose.translation();
+  return SimTK::Transform(SimTK::Rotation(rotation, true), SimTK::Vec3(t.x(), t.y(), t.z()));
+}
+
+Eigen::Isometry3d ToEigen(const SimTK::Transform& transform) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  const SimTK::Mat33& r = transform.R().asMat33();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) pose.linear()(i, j) = r(i, j);
+    pose.translation()[i] = transform.p()[i];
+  }
+  return pose;
+}
+
+// Rotation taking `from` (a unit axis of a mobilizer frame) onto the joint axis.
+Eigen::Isometry3d AxisAlignment(const Eigen::Vector3d& from, const Eigen::Vector3d& axis) {
+  Eigen::Isometry3d alignment = Eigen::Isometry3d::Identity();
+  alignment.linear() = Eigen::Quaterniond::FromTwoVectors(from, axis).toRotationMatrix();
+  return alignment;
+}
+
+}  // namespace
+
+std::string_view FloatingBaseName(FloatingBase base) {
+  switch (base) {
+    case FloatingBase::kAuto: return "auto";
+    case FloatingBase::kFree: return "free";
+    case FloatingBase::kFixed: return "fixed";
+  }
+  return "?";
+}
+
+FloatingBase FloatingBaseFromName(std::string_view name) {
+  if (name == "auto") return FloatingBase::kAuto;
+  if (name == "free") return FloatingBase::kFree;
+  if (name == "fixed") return FloatingBase::kFixed;
+  throw UsageError("floating base must be auto, free or fixed, not '" + std::string(name) + "'");
+}
+
+// Where each URDF link lives in the Simbody system.
+struct LinkPlacement {
+  SimTK::MobilizedBodyIndex body;
+  Eigen::Isometry3d in_body = Eigen::Isometry3d::Identity();  // link frame in the body frame
+};
+
+struct Model::Impl {
+  SimTK::MultibodySystem system;
+  SimTK::SimbodyMatterSubsystem matter{system};
+  SimTK::GeneralForceSubsystem forces{system};
+  SimTK::Force::Gravity gravity_force;
+
+  std::string name, path, sha256;
+  FloatingBase floating_base = FloatingBase::kFree;
+  double gravity = 9.80665;
+  double total_mass = 0.0;
+  int nq = 0, nu = 0;
+  std::vector<std::string> coordinate_names, velocity_names, link_names;
+  std::vector<LinkPlacement> links;
+  std::vector<std::string> warnings;
+  std::vector<ModelJoint> joints;
+  Eigen::VectorXd q_lower, q_upper, u_limit;
+
+  explicit Impl(double g) : gravity_force(forces, matter, -SimTK::ZAxis, g), gravity(g) {}
+};
+
+namespace {
+
+// A body being assembled: the URDF links merged into it by fixed joints.
+struct BodyMassAccumulator {
+  double mass = 0.0;
+  Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();   // Σ m c
+  Eigen::Matrix3d inertia_about_origin = Eigen::Matrix3d::Zero();
+
+  void add(const UrdfInertial& inertial, const Eigen::Isometry3d& link_in_body) {
+    if (inertial.mass <= 0.0 && inertial.inertia.isZero()) return;
+    const Eigen::Vector3d com = link_in_body * inertial.origin.translation();
+    const Eigen::Matrix3d rotation = link_in_body.linear() * inertial.origin.linear();
+    const Eigen::Matrix3d about_com = rotation * inertial.inertia * rotation.transpose();
+    // Parallel-axis theorem: I_o = I_c + m (|c|² 1 − c cᵀ).
+    inertia_about_origin += about_com + inertial.mass * (com.squaredNorm() * Eigen::Matrix3d::Identity() - com * com.transpose());
+    mass += inertial.mass;
+    first_moment += inertial.mass * com;
+  }
+
+  SimTK::MassProperties toSimbody() const {
+    if (mass <= 0.0) return SimTK::MassProperties(0, SimTK::Vec3(0), SimTK::Inertia(0));
+    const Eigen::Vector3d com = first_moment / mass;
+    const Eigen::Matrix3d& I = inertia_about_origin;
+    return SimTK::MassProperties(mass, SimTK::Vec3(com.x(), com.y(), com.z()),
+                                 SimTK::Inertia(I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)));
+  }
+};
+
+}  // namespace
+
+Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
+  const std::string text = ReadFileText(urdf_path);
+  const RobotDescription urdf = ParseUrdf(text, urdf_path);
+  auto impl = std::make_shared<Impl>(options.gravity);
+  impl->name = urdf.name;
+  impl->path = urdf_path;
+  impl->sha256 = Sha256Hex(text.data(), text.size());
+  impl->warnings = urdf.warnings;
+
+  // Children of each link, in file order.
+  std::vector<std::vector<int>> child_joints(urdf.links.size());
+  for (size_t j = 0; j < urdf.joints.size(); ++j) {
+    const UrdfJoint& joint = urdf.joints[j];
+    if (joint.type == UrdfJointType::kFloating) {
+      throw DataError(Location::AtLine(urdf_path, joint.line),
+                      "joint '" + joint.name + "': floating joints inside the tree are not supported; use "
+                      "--floating-base free for a free root");
+    }
+    child_joints[static_cast<size_t>(urdf.findLink(joint.parent))].push_back(static_cast<int>(j));
+  }
+  const UrdfLink& root = urdf.links[static_cast<size_t>(urdf.root_link)];
+  FloatingBase base = options.floating_base;
+  if (base == FloatingBase::kAuto) {
+    bool virtual_chain = false;
+    for (int j : child_joints[static_cast<size_t>(urdf.root_link)]) {
+      virtual_chain = virtual_chain || urdf.joints[static_cast<size_t>(j)].type != UrdfJointType::kFixed;
+    }
+    // Virtual base links carry zero or token masses (HRP-4C: 1e-16 kg).
+    base = (root.inertial.mass < 1e-6 && virtual_chain) ? FloatingBase::kFixed : FloatingBase::kFree;
+  }
+  impl->floating_base = base;
+
+  // Assemble bodies depth-first from the root, so parents exist before children.
+  impl->links.resize(urdf.links.size());
+  std::vector<BodyMassAccumulator> masses;  // per our body number
+  std::vector<int> body_of_link(urdf.links.size(), -1);
+  std::vector<std::vector<int>> links_of_body;
+  std::vector<int> body_parent_link;  // the link whose non-fixed joint created the body (-1 root)
+  std::vector<int> body_joint;        // that joint (-1 root)
+
+  // First pass: group links into bodies and accumulate mass properties.
+  std::function<void(int, int, const Eigen::Isometry3d&)> group = [&](int link, int body, const Eigen::Isometry3d& in_body) {
+    body_of_link[static_cast<size_t>(link)] = body;
+    impl->links[static_cast<size_t>(link)].in_body = in_body;
+    links_of_body[static_cast<size_t>(body)].push_back(link);
+    masses[static_cast<size_t>(body)].add(urdf.links[static_cast<size_t>(link)].inertial, in_body);
+    for (int j : child_joints[static_cast<size_t>(link)]) {
+      const UrdfJoint& joint = urdf.joints[static_cast<size_t>(j)];
+      const int child = urdf.findLink(joint.child);
+      if (joint.type == UrdfJointType::kFixed) {
+        group(child, body, in_body * joint.origin);
+      } else {
+        masses.emplace_back();
+        links_of_body.emplace_back();
+        body_parent_link.push_back(link);
+        body_joint.push_back(j);
+        group(child, static_cast<int>(masses.size()) - 1, Eigen::Isometry3d::Identity());
+      }
+    }
+  };
+  masses.emplace_back();
+  links_of_body.emplace_back();
+  body_parent_link.push_back(-1);
+  body_joint.push_back(-1);
+  group(urdf.root_link, 0, Eigen::Isometry3d::Identity());
+  for (const UrdfLink& link : urdf.links) impl->total_mass += link.inertial.mass;
+
+  // Second pass: mobilized bodies. Body 0 is the root: ground itself when
+  // fixed, else a body on a Free mobilizer.
+  std::vector<SimTK::MobilizedBodyIndex> mobilized(masses.size());
+  if (base == FloatingBase::kFixed) {
+    mobilized[0] = SimTK::GroundIndex;
+  } else {
+    SimTK::Body::Rigid body(masses[0].toSimbody());
+    SimTK::MobilizedBody::Free free(impl->matter.Ground(), SimTK::Transform(), body, SimTK::Transform());
+    mobilized[0] = free.getMobilizedBodyIndex();
+    impl->joints.push_back({"floating_base", "free", "world", root.name, 0, 0});
+  }
+  for (size_t b = 1; b < masses.size(); ++b) {
+    const UrdfJoint& joint = urdf.joints[static_cast<size_t>(body_joint[b])];
+    const int parent_link = body_parent_link[b];
+    SimTK::MobilizedBody& parent =
+        impl->matter.updMobilizedBody(mobilized[static_cast<size_t>(body_of_link[static_cast<size_t>(parent_link)])]);
+    const Eigen::Isometry3d joint_in_parent_body = impl->links[static_cast<size_t>(parent_link)].in_body * joint.origin;
+    SimTK::Body::Rigid body(masses[b].toSimbody());
+    const bool slides = joint.type == UrdfJointType::kPrismatic;
+    // Pin turns about its mobilizer frame's Z, Slider moves along its X: align that axis with the URDF axis.
+    const Eigen::Isometry3d alignment = AxisAlignment(slides ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitZ(), joint.axis);
+    const SimTK::Transform inboard = ToSimbody(joint_in_parent_body * alignment);
+    const SimTK::Transform outboard = ToSimbody(alignment);
+    if (slides) {
+      mobilized[b] = SimTK::MobilizedBody::Slider(parent, inboard, body, outboard)
+                         .getMobilizedBodyIndex();
+    } else {
+      mobilized[b] = SimTK::MobilizedBody::Pin(parent, inboard, body, outboard)
+                         .getMobilizedBodyIndex();
+    }
+  }
+  for (size_t l = 0; l < urdf.links.size(); ++l) {
+    impl->links[l].body = mobilized[static_cast<size_t>(body_of_link[l])];
+    impl->link_names.push_back(urdf.links[l].name);
+  }
+
+  impl->system.realizeTopology();
+  SimTK::State state = impl->system.getDefaultState();
+  impl->system.realizeModel(state);
+  impl->nq = state.getNQ();
+  impl->nu = state.getNU();
+  impl->coordinate_names.resize(static_cast<size_t>(impl->nq));
+  impl->velocity_names.resize(static_cast<size_t>(impl->nu));
+  impl->q_lower = Eigen::VectorXd::Constant(impl->nq, -std::numeric_limits<double>::infinity());
+  impl->q_upper = Eigen::VectorXd::Constant(impl->nq, std::numeric_limits<double>::infinity());
+  impl->u_limit = Eigen::VectorXd::Constant(impl->nu, std::numeric_limits<double>::infinity());
+  if (base == FloatingBase::kFree) {
+    const SimTK::MobilizedBody& free = impl->matter.getMobilizedBody(mobilized[0]);
+    const int q0 = free.getFirstQIndex(state), u0 = free.getFirstUIndex(state);
+    const char* q_names[] = {"base_qw", "base_qx", "base_qy", "base_qz", "base_x", "base_y", "base_z"};
+    const char* u_names[] = {"base_wx", "base_wy", "base_wz", "base_vx", "base_vy", "base_vz"};
+    for (int i = 0; i < 7; ++i) impl->coordinate_names[static_cast<size_t>(q0 + i)] = q_names[i];
+    for (int i = 0; i < 6; ++i) impl->velocity_names[static_cast<size_t>(u0 + i)] = u_names[i];
+  }
+  // Joints in URDF file order, with their coordinates.
+  std::map<int, size_t> body_of_joint;
+  for (size_t b = 1; b < masses.size(); ++b) body_of_joint[body_joint[b]] = b;
+  for (size_t j = 0; j < urdf.joints.size(); ++j) {
+    const UrdfJoint& joint = urdf.joints[j];
+    static const char* kTypeNames[] = {"revolute", "continuous", "prismatic", "fixed", "floating"};
+    ModelJoint entry{joint.name, kTypeNames[static_cast<int>(joint.type)], joint.parent, joint.child, -1, -1};
+    const auto found = body_of_joint.find(static_cast<int>(j));
+    if (found != body_of_joint.end()) {
+      const SimTK::MobilizedBody& mobod = impl->matter.getMobilizedBody(mobilized[found->second]);
+      entry.q_index = mobod.getFirstQIndex(state);
+      entry.u_index = mobod.getFirstUIndex(state);
+      impl->coordinate_names[static_cast<size_t>(entry.q_index)] = joint.name;
+      impl->velocity_names[static_cast<size_t>(entry.u_index)] = joint.name;
+      if (joint.has_limits) {
+        impl->q_lower[entry.q_index] = joint.lower;
+        impl->q_upper[entry.q_index] = joint.upper;
+      }
+      if (joint.velocity > 0) impl->u_limit[entry.u_index] = joint.velocity;
+    }
+    impl->joints.push_back(entry);
+  }
+  return Model(impl);
+}
+
+const std::string& Model::name() const { return impl_->name; }
+const std::string& Model::sourcePath() const { return impl_->path; }
+const std::string& Model::sourceSha256() const { return impl_->sha256; }
+FloatingBase Model::floatingBase() const { return impl_->floating_base; }
+bool Model::hasFreeBase() const { return impl_->floating_base == FloatingBase::kFree; }
+int Model::nq() const { return impl_->nq; }
+int Model::nu() const { return impl_->nu; }
+double Model::totalMass() const { return impl_->total_mass; }
+double Model::gravity() const { return impl_->gravity; }
+const std::vector<std::string>& Model::coordinateNames() const { return impl_->coordinate_names; }
+const std::vector<std::string>& Model::velocityNames() const { return impl_->velocity_names; }
+const Eigen::VectorXd& Model::qLower() const { return impl_->q_lower; }
+const Eigen::VectorXd& Model::qUpper() const { return impl_->q_upper; }
+const Eigen::VectorXd& Model::uLimit() const { return impl_->u_limit; }
+const std::vector<std::string>& Model::linkNames() const { return impl_->link_names; }
+const std::vector<ModelJoint>& Model::joints() const { return impl_->joints; }
+const std::vector<std::string>& Model::warnings() const { return impl_->warnings; }
+
+Eigen::VectorXd Model::defaultQ() const {
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(impl_->nq);
+  if (hasFreeBase()) q[0] = 1.0;  // the Free mobilizer comes first: identity quaternion
+  return q;
+}
+
+int Model::findLinkIndex(const std::string& link_name) const {
+  for (size_t i = 0; i < impl_->link_names.size(); ++i) {
+    if (impl_->link_names[i] == link_name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+// ---- Workspace ------------------------------------------------------------------
+
+struct Workspace::Impl {
+  const Model::Impl& model;
+  SimTK::State state;
+  Eigen::VectorXd q, u;
+  SimTK::Vector scratch_in, scratch_out, zero_mobility_forces;
+  SimTK::Matrix jacobian;
+  // Gravity as body forces (moment about and force at each body origin, in
+  // ground), for the inverse/forward dynamics operators, which take applied
+  // forces explicitly. Computed here from each body's mass and COM because
+  // Force::Gravity's cache needs Stage::Dynamics, which would also evaluate
+  // everything else.
+  SimTK::Vector_<SimTK::SpatialVec> gravity_forces;
+  bool gravity_current = false;
+
+  const SimTK::Vector_<SimTK::SpatialVec>& gravityForces() {
+    if (gravity_current) return gravity_forces;
+    const int bodies = model.matter.getNumBodies();
+    for (SimTK::MobilizedBodyIndex b(1); b < bodies; ++b) {
+      const SimTK::MobilizedBody& body = model.matter.getMobilizedBody(b);
+      const SimTK::MassProperties& mass = body.getBodyMassProperties(state);
+      const SimTK::Vec3 com_in_ground = body.getBodyRotation(state) * mass.getMassCenter();
+      const SimTK::Vec3 force(0, 0, -mass.getMass() * model.gravity);
+      gravity_forces[b] = SimTK::SpatialVec(com_in_ground % force, force);
+    }
+    gravity_current = true;
+    return gravity_forces;
+  }
+
+  explicit Impl(const Model::Impl& model_in)
+      : model(model_in),
+        state(model_in.system.getDefaultState()),
+        q(Eigen::VectorXd::Zero(model_in.nq)),
+        u(Eigen::VectorXd::Zero(model_in.nu)),
+        scratch_in(model_in.nu, 0.0),
+        scratch_out(model_in.nu, 0.0),
+        zero_mobility_forces(model_in.nu, 0.0),
+        jacobian(6, model_in.nu),
+        gravity_forces(model_in.matter.getNumBodies(), SimTK::SpatialVec(SimTK::Vec3(0), SimTK::Vec3(0))) {
+    if (model.floating_base == FloatingBase::kFree) q[0] = 1.0;
+    model.system.realizeModel(state);
+    for (int i = 0; i < model.nq; ++i) state.updQ()[i] = q[i];
+    model.system.realize(state, SimTK::Stage::Velocity);
+  }
+
+  void toScratch(const Eigen::VectorXd& v) {
+    for (int i = 0; i < model.nu; ++i) scratch_in[i] = v[i];
+  }
+  void fromScratch(Eigen::VectorXd& out) const {
+    out.resize(model.nu);
+    for (int i = 0; i < model.nu; ++i) out[i] = scratch_out[i];
+  }
+};
+
+Workspace::Workspace(const Model& model) : model_(model), impl_(std::make_unique<Impl>(model.impl())) {}
+Workspace::~Workspace() = default;
+Workspace::Workspace(Workspace&&) noexcept = default;
+Workspace& Workspace::operator=(Workspace&&) noexcept = default;
+
+void Workspace::setQ(const Eigen::VectorXd& q) {
+  Impl& impl = *impl_;
+  impl.q = q;
+  if (model_.hasFreeBase()) {
+    const double norm = impl.q.head<4>().norm();
+    if (norm > 0) impl.q.head<4>() /= norm;
+  }
+  SimTK::Vector& state_q = impl.state.updQ();
+  for (int i = 0; i < impl.model.nq; ++i) state_q[i] = impl.q[i];
+  impl.model.system.realize(impl.state, SimTK::Stage::Position);
+  impl.gravity_current = false;
+}
+
+void Workspace::setU(const Eigen::VectorXd& u) {
+  Impl& impl = *impl_;
+  impl.u = u;
+  SimTK::Vector& state_u = impl.state.updU();
+  for (int i = 0; i < impl.model.nu; ++i) state_u[i] = u[i];
+  impl.model.system.realize(impl.state, SimTK::Stage::Velocity);
+}
+
+const Eigen::VectorXd& Workspace::getQ() const { return impl_->q; }
+const Eigen::VectorXd& Workspace::getU() const { return impl_->u; }
+
+Eigen::Isometry3d Workspace::findLinkPose(int link) const {
+  const LinkPlacement& placement = impl_->model.links[static_cast<size_t>(link)];
+  const SimTK::Transform& body = impl_->model.matter.getMobilizedBody(placement.body).getBodyTransform(impl_->state);
+  return ToEigen(body) * placement.in_body;
+}
+
+void Workspace::calcFrameJacobian(int link, const Eigen::Vector3d& point_in_link,
+                                  Eigen::Matrix<double, 6, Eigen::Dynamic>& jacobian) {
+  Impl& impl = *impl_;
+  const LinkPlacement& placement = impl.model.links[static_cast<size_t>(link)];
+  jacobian.resize(6, impl.model.nu);
+  if (placement.body == SimTK::GroundIndex) {
+    jacobian.setZero();
+    return;
+  }
+  const Eigen::Vector3d station = placement.in_body * point_in_link;
+  impl.model.matter.calcFrameJacobian(impl.state, placement.body, SimTK::Vec3(station.x(), station.y(), station.z()),
+                                      impl.jacobian);
+  for (int r = 0; r < 6; ++r) {
+    for (int c = 0; c < impl.model.nu; ++c) jacobian(r, c) = impl.jacobian(r, c);
+  }
+}
+
+void Workspace::calcMassTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+  impl_->toScratch(v);
+  impl_->model.matter.multiplyByM(impl_->state, impl_->scratch_in, impl_->scratch_out);
+  impl_->fromScratch(out);
+}
+
+void Workspace::calcMassInverseTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+  impl_->toScratch(v);
+  impl_->model.matter.multiplyByMInv(impl_->state, impl_->scratch_in, impl_->scratch_out);
+  impl_->fromScratch(out);
+}
+
+void Workspace::calcMomentum(Eigen::VectorXd& p) { calcMassTimes(impl_->u, p); }
+
+double Workspace::calcKineticEnergy() { return impl_->model.matter.calcKineticEnergy(impl_->state); }
+
+void Workspace::calcInverseDynamics(const Eigen::VectorXd& udot, Eigen::VectorXd& tau) {
+  Impl& impl = *impl_;
+  impl.toScratch(udot);
+  impl.model.matter.calcResidualForceIgnoringConstraints(impl.state, impl.zero_mobility_forces,
+                                                         impl.gravityForces(),
+                                                         impl.scratch_in, impl.scratch_out);
+  impl.fromScratch(tau);
+}
+
+void Workspace::calcForwardDynamics(const Eigen::VectorXd& tau, Eigen::VectorXd& udot) {
+  // udot = A⁻¹ (tau − (b + g)), with b + g the inverse dynamics of zero
+  // acceleration: two O(n) operators, and no need to realise Stage::Dynamics.
+  Impl& impl = *impl_;
+  impl.scratch_in = 0.0;
+  impl.model.matter.calcResidualForceIgnoringConstraints(impl.state, impl.zero_mobility_forces, impl.gravityForces(),
+                                                         impl.scratch_in, impl.scratch_out);
+  for (int i = 0; i < impl.model.nu; ++i) impl.scratch_in[i] = tau[i] - impl.scratch_out[i];
+  impl.model.matter.multiplyByMInv(impl.state, impl.scratch_in, impl.scratch_out);
+  impl.fromScratch(udot);
+}
+
+Eigen::Vector3d Workspace::findCenterOfMass() {
+  const SimTK::Vec3 com = impl_->model.matter.calcSystemMassCenterLocationInGround(impl_->state);
+  return {com[0], com[1], com[2]};
+}
+
+}  // namespace syn

@@ -1,0 +1,65 @@
+// URDF robot descriptions as plain data (no Simbody), read with tinyxml2.
+//
+// Only what dynamics and kinematics need is kept: links with their inertial
+// properties, joints with origin, axis and limits. Visual, collision,
+// transmission and gazebo elements are ignored (meshes need not exist), and
+// so are XML comments (HRP-4C's `floating` joint lives inside one).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace syn {
+
+enum class UrdfJointType { kRevolute, kContinuous, kPrismatic, kFixed, kFloating };
+
+struct UrdfInertial {
+  double mass = 0.0;                                         // kg
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // inertial frame in the link frame
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();         // about the COM, in the inertial frame (kg m²)
+};
+
+struct UrdfLink {
+  std::string name;
+  UrdfInertial inertial;
+  int line = 0;
+};
+
+struct UrdfJoint {
+  std::string name;
+  UrdfJointType type = UrdfJointType::kFixed;
+  std::string parent, child;
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // child joint frame in the parent link frame
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();           // unit, in the joint frame
+  bool has_limits = false;
+  double lower = 0.0, upper = 0.0, velocity = 0.0, effort = 0.0;
+  int line = 0;
+};
+
+struct RobotDescription {
+  std::string name;
+  std::string file;
+  std::vector<UrdfLink> links;    // file order
+  std::vector<UrdfJoint> joints;  // file order
+  int root_link = -1;             // the one link that is no joint's child
+  std::vector<std::string> warnings;  // recoverable oddities, "file:line: ..."
+
+  int findLink(const std::string& name) const;
+  // The joint whose child is `link`, or -1 for the root.
+  int parentJointOf(int link) const;
+};
+
+// URDF rotation from roll, pitch, yaw: R = Rz(yaw) · Ry(pitch) · Rx(roll).
+[[nodiscard]] Eigen::Matrix3d UrdfRpyToRotation(const Eigen::Vector3d& rpy);
+
+// Throws DataError at file:line for malformed input: XML syntax, missing or
+// unknown link names, a link with two parents, cycles, no single root, unknown
+// joint types, negative mass or inertia diagonal, non-numeric or wrong-count
+// numbers, a zero axis.
+[[nodiscard]] RobotDescription ParseUrdf(const std::string& xml_text, const std::string& file_name);
+[[nodiscard]] RobotDescription LoadUrdf(const std::string& path);
+
+}  // namespace syn
