@@ -1,0 +1,83 @@
+// Per-frame inverse kinematics: the robot configuration that best tracks the
+// landmark targets of one frame (DESIGN.md, Retarget).
+//
+// Minimises, over q near the previous frame's solution (warm start),
+//   Σ_tasks ‖w_i (p_i(q) − p_i*)‖² + ‖w_i log(R_i(q) R_i*ᵀ)‖²  +  ‖w_p (q_joints − q_ref)‖²
+// with Ceres (Levenberg–Marquardt, dense normal Cholesky), joint limits as
+// parameter bounds, and analytic Jacobians from the model (no autodiff
+// through Simbody). The unknown is a velocity-space step δ (size nu) applied
+// to the warm start, so a free base's quaternion stays on its manifold:
+// q = q_prev ⊕ δ rotates the base by exp(δ_ω) in the ground frame.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "common/model.h"
+#include "stages/retarget/robot_map.h"
+
+namespace syn {
+
+// One tracked link.
+struct IkTask {
+  int link = -1;                 // Model link index
+  TaskType type = TaskType::kPose;
+  double weight = 1.0;           // priority weight × task weight
+};
+
+// One frame's target for a task; `active` false = no target (weight 0 this frame).
+struct IkTarget {
+  bool active = false;
+  bool has_orientation = true;   // a position-only landmark turns a pose task into a position task
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+};
+
+struct FrameIkOptions {
+  int max_iterations = 50;
+  // Stop when the cost changes by less than this fraction (Ceres function_tolerance).
+  double function_tolerance = 1e-9;
+  double gradient_tolerance = 1e-12;
+  double parameter_tolerance = 1e-9;
+};
+
+struct FrameIkSummary {
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  bool converged = false;
+};
+
+class FrameIk {
+ public:
+  // q_reference: the posture target (nq); posture_weight applies to every
+  // joint coordinate (not the floating base).
+  FrameIk(const Model& model, std::vector<IkTask> tasks, const Eigen::VectorXd& q_reference, double posture_weight,
+          const FrameIkOptions& options = {});
+  ~FrameIk();
+  FrameIk(const FrameIk&) = delete;
+  FrameIk& operator=(const FrameIk&) = delete;
+
+  // Solves one frame in place: q holds the warm start on entry and the
+  // solution on exit. `targets` has one entry per task.
+  FrameIkSummary solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q);
+
+  // Position error (m) and angle error (rad) of each task at q (NaN where the
+  // target is inactive or has no such part).
+  void measureErrors(const std::vector<IkTarget>& targets, const Eigen::VectorXd& q, std::vector<double>& position_error,
+                     std::vector<double>& angle_error);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// q ⊕ δ: joints and base translation add; a free base's quaternion (q[0..3],
+// w x y z) is rotated by exp(δ[0..2]) in the ground frame.
+void ApplyVelocityStep(const Model& model, const Eigen::VectorXd& q0, const Eigen::VectorXd& delta, Eigen::VectorXd& q);
+
+}  // namespace syn

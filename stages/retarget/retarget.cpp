@@ -1,0 +1,372 @@
+#include "stages/retarget/retarget.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Geometry>
+
+#include "common/error.h"
+#include "common/markers_file.h"
+#include "common/model.h"
+#include "stages/retarget/frame_ik.h"
+#include "stages/retarget/landmarks.h"
+#include "stages/retarget/marker_set.h"
+#include "stages/retarget/robot_map.h"
+#include "stages/retarget/velocity_estimation.h"
+
+namespace syn {
+namespace {
+
+double Percentile(std::vector<double> values, double fraction) {
+  values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }), values.end());
+  if (values.empty()) return std::nan("");
+  const size_t index = std::min(values.size() - 1, static_cast<size_t>(fraction * static_cast<double>(values.size() - 1) + 0.5));
+  std::nth_element(values.begin(), values.begin() + static_cast<long>(index), values.end());
+  return values[index];
+}
+
+struct LandmarkSample {
+  bool valid = false;
+  bool has_orientation = false;
+  Eigen::Vector3d position;
+  Eigen::Quaterniond orientation;
+};
+
+LandmarkSample SampleAt(const LandmarkTrajectories& landmarks, int64_t frame, int64_t landmark) {
+  const double* pose = &landmarks.pose[static_cast<size_t>((frame * landmarks.count() + landmark) * 7)];
+  LandmarkSample sample;
+  sample.position = Eigen::Vector3d(pose[0], pose[1], pose[2]);
+  sample.valid = sample.position.allFinite();
+  sample.has_orientation = std::isfinite(pose[3]) && landmarks.has_orientation[static_cast<size_t>(landmark)];
+  sample.orientation = sample.has_orientation ? Eigen::Quaterniond(pose[3], pose[4], pose[5], pose[6]).normalized()
+                                              : Eigen::Quaterniond::Identity();
+  return sample;
+}
+
+// Rotation about Z that turns the subject's forward direction (left × up) into +X.
+Eigen::Matrix3d HeadingAlignment(const Eigen::Vector3d& left, double* heading) {
+  Eigen::Vector3d forward = left.cross(Eigen::Vector3d::UnitZ());
+  forward.z() = 0;
+  if (forward.norm() < 1e-9) {
+    *heading = 0;
+    return Eigen::Matrix3d::Identity();
+  }
+  *heading = std::atan2(forward.y(), forward.x());
+  return Eigen::AngleAxisd(-*heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
+
+// Frames with no target at all kept the previous solution; interpolate them
+// between their neighbours when the gap is short, refuse when it is not.
+void BridgeGaps(const Model& model, const std::vector<double>& time_s, const std::vector<int64_t>& bridged,
+                double max_bridge, const std::string& source, std::vector<double>& q) {
+  const int64_t nq = model.nq();
+  const int64_t frames = static_cast<int64_t>(time_s.size());
+  size_t k = 0;
+  while (k < bridged.size()) {
+    size_t end = k;
+    while (end + 1 < bridged.size() && bridged[end + 1] == bridged[end] + 1) ++end;
+    const int64_t first = bridged[k], last = bridged[end];
+    const int64_t before = first - 1, after = last + 1;
+    const double span = time_s[static_cast<size_t>(std::min(after, frames - 1))] -
+                        time_s[static_cast<size_t>(std::max<int64_t>(before, 0))];
+    if (span > max_bridge || before < 0 || after >= frames) {
+      throw DataError(Location::InFile(source),
+                      "no landmark at all from " + std::to_string(time_s[static_cast<size_t>(first)]) + " s to " +
+                          std::to_string(time_s[static_cast<size_t>(last)]) + " s (" +
+                          (before < 0 || after >= frames ? std::string("at the trial's edge") : "longer than --max-bridge") +
+                          "); trim the trial or fill the gaps at ingest");
+    }
+    for (int64_t t = first; t <= last; ++t) {
+      const double fraction = (time_s[static_cast<size_t>(t)] - time_s[static_cast<size_t>(before)]) / span;
+      const double* a = &q[static_cast<size_t>(before * nq)];
+      const double* b = &q[static_cast<size_t>(after * nq)];
+      double* out = &q[static_cast<size_t>(t * nq)];
+      int64_t start = 0;
+      if (model.hasFreeBase()) {
+        const Eigen::Quaterniond qa(a[0], a[1], a[2], a[3]), qb(b[0], b[1], b[2], b[3]);
+        const Eigen::Quaterniond blended = qa.slerp(fraction, qb);
+        out[0] = blended.w(), out[1] = blended.x(), out[2] = blended.y(), out[3] = blended.z();
+        start = 4;
+      }
+      for (int64_t i = start; i < nq; ++i) out[i] = a[i] + fraction * (b[i] - a[i]);
+    }
+    k = end + 1;
+  }
+}
+
+}  // namespace
+
+bool RetargetOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (model.empty()) return fail("--model is required (a URDF file)");
+  if (robot_map.empty()) return fail("--robot-map is required (manifests/robots/NAME.toml)");
+  if (markerset.empty()) return fail("--markerset is required (manifests/markersets/NAME.toml)");
+  if (floating_base != "map" && floating_base != "auto" && floating_base != "free" && floating_base != "fixed") {
+    return fail("--floating-base must be map, auto, free or fixed");
+  }
+  if (scale != "auto") {
+    char* end = nullptr;
+    const double value = std::strtod(scale.c_str(), &end);
+    if (*end != '\0' || !(value > 0)) return fail("--scale must be auto or a positive number");
+  }
+  if (max_bridge < 0) return fail("--max-bridge must be >= 0");
+  return true;
+}
+
+nlohmann::json RetargetOptions::ToJson() const {
+  return {{"floating_base", floating_base}, {"reference_time", reference_time}, {"scale", scale},
+          {"max_bridge", max_bridge}};
+}
+
+std::string RetargetSummary::BriefReport() const {
+  std::ostringstream out;
+  out.precision(3);
+  out << frames << " frames, reference frame " << reference_frame << ", scale " << scale << "; median/p95 error "
+      << "P1 " << median_position_error[0] * 1000 << "/" << p95_position_error[0] * 1000 << " mm "
+      << median_angle_error[0] * 180 / M_PI << "/" << p95_angle_error[0] * 180 / M_PI << " deg, "
+      << "P2 " << median_position_error[1] * 1000 << "/" << p95_position_error[1] * 1000 << " mm "
+      << median_angle_error[1] * 180 / M_PI << "/" << p95_angle_error[1] * 180 / M_PI << " deg; worst joint step "
+      << worst_joint_step << " rad (" << worst_joint_step_name << "); IK " << ik_seconds << " s, " << mean_ik_iterations << " iterations/frame";
+  return out.str();
+}
+
+MotionData Retarget(const std::string& markers_path, const RetargetOptions& options, RetargetSummary* summary) {
+  RetargetSummary local_summary;
+  RetargetSummary& report = summary ? *summary : local_summary;
+  const MarkerData capture = ReadMarkersFile(markers_path);
+  const MarkerSet marker_set = LoadMarkerSet(options.markerset);
+  const RobotMap map = LoadRobotMap(options.robot_map);
+  ModelOptions model_options;
+  model_options.floating_base =
+      FloatingBaseFromName(options.floating_base == "map" ? map.floating_base : options.floating_base);
+  const Model model = Model::Load(options.model, model_options);
+  const auto joint_names = model.coordinateNames();
+  CheckRobotMapNames(
+      map, [&](const std::string& name) { return model.findLinkIndex(name) >= 0; },
+      [&](const std::string& name) {
+        return std::find(joint_names.begin(), joint_names.end(), name) != joint_names.end();
+      },
+      options.model);
+
+  LandmarkTrajectories landmarks = ComputeLandmarks(capture, marker_set, markers_path);
+  const int64_t frames = landmarks.frames;
+  if (frames == 0) throw DataError(Location::InFile(markers_path), "the capture has no frames");
+
+  // Tasks the capture can feed.
+  std::vector<IkTask> tasks;
+  std::vector<int64_t> task_landmark;
+  std::vector<int> task_priority;
+  for (const RobotTask& task : map.tasks) {
+    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), task.landmark);
+    if (found == landmarks.names.end()) {
+      report.notes.push_back("marker set '" + marker_set.name + "' has no " + task.landmark + " landmark: task dropped");
+      continue;
+    }
+    const int64_t landmark = found - landmarks.names.begin();
+    IkTask ik_task;
+    ik_task.link = model.findLinkIndex(task.link);
+    ik_task.type = task.type;
+    ik_task.weight = map.priority_weights[static_cast<size_t>(task.priority - 1)] * task.weight;
+    if (!landmarks.has_orientation[static_cast<size_t>(landmark)] && task.type != TaskType::kPosition) {
+      if (task.type == TaskType::kOrientation) {
+        report.notes.push_back(task.landmark + " has no orientation in this marker set: orientation task dropped");
+        continue;
+      }
+      report.notes.push_back(task.landmark + " has no orientation in this marker set: tracked by position only");
+      ik_task.type = TaskType::kPosition;
+    }
+    tasks.push_back(ik_task);
+    task_landmark.push_back(landmark);
+    task_priority.push_back(task.priority);
+  }
+  if (tasks.empty()) throw DataError(Location::InFile(options.robot_map), "no task of the robot map can be tracked");
+
+  // Reference frame.
+  int64_t reference = -1;
+  if (options.reference_time >= 0) {
+    double best = std::numeric_limits<double>::infinity();
+    for (int64_t t = 0; t < frames; ++t) {
+      const double distance = std::abs(capture.time_s[static_cast<size_t>(t)] - options.reference_time);
+      if (distance < best) best = distance, reference = t;
+    }
+  } else {
+    for (int64_t t = 0; t < frames && reference < 0; ++t) {
+      bool all = true;
+      for (int64_t landmark : task_landmark) all = all && SampleAt(landmarks, t, landmark).valid;
+      if (all) reference = t;
+    }
+  }
+  if (reference < 0) {
+    throw DataError(Location::InFile(markers_path), "no frame has every tracked landmark; give --reference-time");
+  }
+  report.reference_frame = reference;
+
+  // Robot reference stance: q_ref with the soles on the ground.
+  Eigen::VectorXd q_ref = model.defaultQ();
+  for (const auto& [joint, value] : map.reference_stance) {
+    const auto found = std::find(joint_names.begin(), joint_names.end(), joint);
+    q_ref[found - joint_names.begin()] = value;
+  }
+  Workspace workspace(model);
+  if (model.hasFreeBase() && !map.feet.empty()) {
+    workspace.setQ(q_ref);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const RobotFoot& foot : map.feet) {
+      const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
+      for (const auto& point : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(point[0], point[1], point[2])).z());
+    }
+    q_ref[6] -= lowest;
+  }
+  workspace.setQ(q_ref);
+  std::vector<Eigen::Isometry3d> link_reference;
+  for (const IkTask& task : tasks) link_reference.push_back(workspace.findLinkPose(task.link));
+
+  // Heading and scale from the reference frame.
+  auto landmark_position = [&](const char* name, int64_t frame, Eigen::Vector3d* position) {
+    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), name);
+    if (found == landmarks.names.end()) return false;
+    const LandmarkSample sample = SampleAt(landmarks, frame, found - landmarks.names.begin());
+    *position = sample.position;
+    return sample.valid;
+  };
+  Eigen::Vector3d left = Eigen::Vector3d::Zero(), a, b;
+  for (const auto& [left_name, right_name] : {std::pair{"left_foot", "right_foot"}, {"left_elbow", "right_elbow"}}) {
+    if (landmark_position(left_name, reference, &a) && landmark_position(right_name, reference, &b)) left += a - b;
+  }
+  const Eigen::Matrix3d heading = HeadingAlignment(left, &report.heading_rad);
+  double scale = 1.0;
+  if (options.scale != "auto") {
+    scale = std::strtod(options.scale.c_str(), nullptr);
+  } else {
+    Eigen::Vector3d head, left_foot, right_foot;
+    const auto robot_height = [&]() {
+      double head_z = std::nan(""), feet_z = 0;
+      int feet = 0;
+      for (size_t i = 0; i < tasks.size(); ++i) {
+        const std::string& name = landmarks.names[static_cast<size_t>(task_landmark[i])];
+        if (name == "head") head_z = link_reference[i].translation().z();
+        if (name == "left_foot" || name == "right_foot") feet_z += link_reference[i].translation().z(), ++feet;
+      }
+      return feet ? head_z - feet_z / feet : std::nan("");
+    };
+    if (landmark_position("head", reference, &head) && landmark_position("left_foot", reference, &left_foot) &&
+        landmark_position("right_foot", reference, &right_foot)) {
+      const double subject = head.z() - 0.5 * (left_foot.z() + right_foot.z());
+      const double robot = robot_height();
+      if (subject > 0.3 && std::isfinite(robot) && robot > 0) scale = robot / subject;
+      else report.notes.push_back("could not measure heights (head and feet tasks needed): scale 1");
+    } else {
+      report.notes.push_back("head or feet missing at the reference frame: scale 1");
+    }
+  }
+  report.scale = scale;
+
+  // Targets per frame and IK.
+  const size_t task_count = tasks.size();
+  std::vector<LandmarkSample> reference_samples;
+  for (int64_t landmark : task_landmark) reference_samples.push_back(SampleAt(landmarks, reference, landmark));
+  const double posture_weight = map.priority_weights[static_cast<size_t>(map.posture_priority - 1)] * map.posture_weight;
+  FrameIk ik(model, tasks, q_ref, posture_weight);
+  std::vector<IkTarget> targets(task_count);
+  std::vector<double> position_error, angle_error;
+
+  MotionData motion;
+  motion.time_s.assign(capture.time_s.begin(), capture.time_s.end());
+  motion.coordinate_names = model.coordinateNames();
+  motion.velocity_names = model.velocityNames();
+  motion.model_name = model.name();
+  motion.model_sha256 = model.sourceSha256();
+  motion.total_mass = model.totalMass();
+  const int64_t nq = model.nq(), nu = model.nu();
+  motion.q.resize(static_cast<size_t>(frames * nq));
+  motion.landmark_names.clear();
+  for (size_t i = 0; i < task_count; ++i) motion.landmark_names.push_back(landmarks.names[static_cast<size_t>(task_landmark[i])]);
+  motion.landmark_targets.assign(static_cast<size_t>(frames) * task_count * 7, std::nan(""));
+  motion.landmark_error.assign(static_cast<size_t>(frames) * task_count * 2, std::nan(""));
+
+  std::array<std::vector<double>, 3> position_by_level, angle_by_level;
+  std::vector<int64_t> bridged;
+  Eigen::VectorXd q = q_ref;
+  const auto start = std::chrono::steady_clock::now();
+  for (int64_t t = 0; t < frames; ++t) {
+    bool any = false;
+    for (size_t i = 0; i < task_count; ++i) {
+      const LandmarkSample sample = SampleAt(landmarks, t, task_landmark[i]);
+      const LandmarkSample& ref = reference_samples[i];
+      IkTarget& target = targets[i];
+      target.active = sample.valid && ref.valid;
+      target.has_orientation = sample.has_orientation && ref.has_orientation;
+      if (!target.active) continue;
+      any = true;
+      target.position = link_reference[i].translation() + scale * (heading * (sample.position - ref.position));
+      if (target.has_orientation) {
+        const Eigen::Matrix3d relative = (sample.orientation * ref.orientation.conjugate()).toRotationMatrix();
+        target.orientation = Eigen::Quaterniond(heading * relative * heading.transpose() * link_reference[i].linear());
+      }
+      double* stored = &motion.landmark_targets[(static_cast<size_t>(t) * task_count + i) * 7];
+      stored[0] = target.position.x(), stored[1] = target.position.y(), stored[2] = target.position.z();
+      if (target.has_orientation) {
+        stored[3] = target.orientation.w(), stored[4] = target.orientation.x();
+        stored[5] = target.orientation.y(), stored[6] = target.orientation.z();
+      }
+    }
+    if (!any) {
+      bridged.push_back(t);
+    } else {
+      report.mean_ik_iterations += ik.solve(targets, q).iterations;
+      ik.measureErrors(targets, q, position_error, angle_error);
+      for (size_t i = 0; i < task_count; ++i) {
+        motion.landmark_error[(static_cast<size_t>(t) * task_count + i) * 2] = position_error[i];
+        motion.landmark_error[(static_cast<size_t>(t) * task_count + i) * 2 + 1] = angle_error[i];
+        position_by_level[static_cast<size_t>(task_priority[i] - 1)].push_back(position_error[i]);
+        angle_by_level[static_cast<size_t>(task_priority[i] - 1)].push_back(angle_error[i]);
+      }
+    }
+    std::copy(q.data(), q.data() + nq, motion.q.begin() + t * nq);
+  }
+  report.ik_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.mean_ik_iterations /= static_cast<double>(std::max<int64_t>(1, frames - static_cast<int64_t>(bridged.size())));
+  for (size_t level = 0; level < 3; ++level) {
+    report.median_position_error[level] = Percentile(position_by_level[level], 0.5);
+    report.p95_position_error[level] = Percentile(position_by_level[level], 0.95);
+    report.median_angle_error[level] = Percentile(angle_by_level[level], 0.5);
+    report.p95_angle_error[level] = Percentile(angle_by_level[level], 0.95);
+  }
+  BridgeGaps(model, motion.time_s, bridged, options.max_bridge, markers_path, motion.q);
+
+  // Velocities, accelerations and the torques that produce them.
+  EstimateVelocities(model, motion.time_s, motion.q, motion.u, motion.udot);
+  motion.tau.resize(static_cast<size_t>(frames * nu));
+  Eigen::VectorXd frame_q(nq), frame_u(nu), frame_udot(nu), frame_tau(nu);
+  for (int64_t t = 0; t < frames; ++t) {
+    frame_q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
+    frame_u = Eigen::Map<const Eigen::VectorXd>(&motion.u[static_cast<size_t>(t * nu)], nu);
+    frame_udot = Eigen::Map<const Eigen::VectorXd>(&motion.udot[static_cast<size_t>(t * nu)], nu);
+    workspace.setQ(frame_q);
+    workspace.setU(frame_u);
+    workspace.calcInverseDynamics(frame_udot, frame_tau);
+    std::copy(frame_tau.data(), frame_tau.data() + nu, motion.tau.begin() + t * nu);
+  }
+
+  // Continuity: the largest per-frame change of any joint coordinate.
+  const int first_joint = model.hasFreeBase() ? 7 : 0;
+  for (int64_t t = 1; t < frames; ++t) {
+    for (int64_t i = first_joint; i < nq; ++i) {
+      const double step = std::abs(motion.q[static_cast<size_t>(t * nq + i)] - motion.q[static_cast<size_t>((t - 1) * nq + i)]);
+      if (step > report.worst_joint_step) {
+        report.worst_joint_step = step;
+        report.worst_joint_step_name = motion.coordinate_names[static_cast<size_t>(i)] + " at " +
+                                       std::to_string(motion.time_s[static_cast<size_t>(t)]) + " s";
+      }
+    }
+  }
+  report.frames = frames;
+  return motion;
+}
+
+}  // namespace syn
