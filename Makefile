@@ -91,7 +91,7 @@ MANIFEST_NAME = $(shell sed -n 's/^name *= *"\(.*\)".*/\1/p' $(MANIFEST) | head 
 
 run: build
 	@$(BIN)/syn-plan $(MANIFEST) -o outputs/$(MANIFEST_NAME)/rules.mk $(if $(DATASET_ROOT),--dataset-root $(DATASET_ROOT))
-	@$(MAKE) --no-print-directory -f outputs/$(MANIFEST_NAME)/rules.mk SYN_BIN=$(BIN) all
+	@$(MAKE) --no-print-directory -j$(JOBS) -f outputs/$(MANIFEST_NAME)/rules.mk SYN_BIN=$(BIN) all
 	@echo "make: $(MANIFEST_NAME): all jobs up to date in outputs/$(MANIFEST_NAME)/"
 
 demo:

@@ -5,19 +5,21 @@
 
 #include "common/cli.h"
 #include "stages/ingest/ingest.h"
+#include "stages/retarget/retarget.h"
 #include "stages/plan/manifest.h"
 #include "stages/plan/rules.h"
 
 namespace {
 
 // The parameters every stage accepts, from each stage's own options struct.
+syn::StageParameterNames NamesOf(const std::string& stage, const nlohmann::json& defaults) {
+  syn::StageParameterNames names{stage, {}};
+  for (auto item = defaults.begin(); item != defaults.end(); ++item) names.names.push_back(item.key());
+  return names;
+}
+
 std::vector<syn::StageParameterNames> KnownStages() {
-  std::vector<syn::StageParameterNames> stages;
-  syn::StageParameterNames ingest{"ingest", {}};
-  const nlohmann::json ingest_defaults = syn::IngestOptions{}.ToJson();
-  for (auto item = ingest_defaults.begin(); item != ingest_defaults.end(); ++item) ingest.names.push_back(item.key());
-  stages.push_back(ingest);
-  return stages;
+  return {NamesOf("ingest", syn::IngestOptions{}.ToJson()), NamesOf("retarget", syn::RetargetOptions{}.ToJson())};
 }
 
 }  // namespace

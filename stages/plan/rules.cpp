@@ -89,7 +89,21 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
     ingest.stamp_text = CanonicalJson(parameters_of("ingest")) + "\n";
     ingest.command = "$(SYN_BIN)/syn-ingest " + MakeEscaped(ShellWord(trial.path)) + " -o $@" +
                      MakeEscaped(FlagsFor(parameters_of("ingest")));
+    const std::string markers = ingest.output;
     plan.jobs.push_back(std::move(ingest));
+
+    if (manifest.model.empty() || manifest.robot_map.empty() || manifest.markerset.empty()) continue;
+    PlannedJob retarget;
+    retarget.stage = "retarget";
+    retarget.trial = trial.id;
+    retarget.output = trial_dir + "/motion.h5";
+    retarget.inputs = {markers, manifest.model, manifest.robot_map, manifest.markerset};
+    retarget.stamp = plan.output_dir + "/params/" + trial.id + ".retarget.json";
+    retarget.stamp_text = CanonicalJson(parameters_of("retarget")) + "\n";
+    retarget.command = "$(SYN_BIN)/syn-retarget " + markers + " -o $@ --model " + MakeEscaped(ShellWord(manifest.model)) +
+                       " --robot-map " + MakeEscaped(ShellWord(manifest.robot_map)) + " --markerset " +
+                       MakeEscaped(ShellWord(manifest.markerset)) + MakeEscaped(FlagsFor(parameters_of("retarget")));
+    plan.jobs.push_back(std::move(retarget));
   }
   return plan;
 }

@@ -1,0 +1,229 @@
+#include "stages/ingest/bvh_reader.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "common/error.h"
+#include "common/file_bytes.h"
+#include "tests/support/shared_data.h"
+
+namespace syn {
+namespace {
+
+const char* kTwoBones = R"(HIERARCHY
+ROOT root
+{
+  OFFSET 0 0 0
+  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
+  JOINT arm
+  {
+    OFFSET 10 0 0
+    CHANNELS 3 Zrotation Xrotation Yrotation
+    End Site
+    {
+      OFFSET 5 0 0
+    }
+  }
+}
+MOTION
+Frames: 2
+Frame Time: 0.5
+1 2 3 0 0 0 0 0 0
+0 0 0 90 0 0 0 90 0
+)";
+
+std::string With(const std::string& text, const std::string& from, const std::string& to);
+
+Eigen::Vector3d Position(const MarkerData& data, int frame, int body) {
+  const double* pose = &data.body_pose[(static_cast<size_t>(frame) * data.bodies.size() + static_cast<size_t>(body)) * 7];
+  return {pose[0], pose[1], pose[2]};
+}
+Eigen::Quaterniond Orientation(const MarkerData& data, int frame, int body) {
+  const double* pose = &data.body_pose[(static_cast<size_t>(frame) * data.bodies.size() + static_cast<size_t>(body)) * 7];
+  return {pose[3], pose[4], pose[5], pose[6]};
+}
+
+TEST(BvhReader, KnownAnglesGiveKnownPoses) {
+  const MarkerData data = ParseBvh(kTwoBones, "two.bvh", {});
+  ASSERT_EQ(data.bodies, (std::vector<std::string>{"root", "arm", "arm_end"}));
+  EXPECT_EQ(data.body_parents, (std::vector<std::string>{"", "root", "arm"}));
+  EXPECT_DOUBLE_EQ(data.rate_hz, 2.0);
+  ASSERT_EQ(data.frame_count(), 2);
+  // Frame 0: the root moved to (1, 2, 3); nothing turned.
+  EXPECT_LT((Position(data, 0, 1) - Eigen::Vector3d(11, 2, 3)).norm(), 1e-12);
+  EXPECT_LT((Position(data, 0, 2) - Eigen::Vector3d(16, 2, 3)).norm(), 1e-12);
+  // Frame 1: root turned 90° about Z: the arm's +X offset now points along +Y.
+  EXPECT_LT((Position(data, 1, 1) - Eigen::Vector3d(0, 10, 0)).norm(), 1e-12);
+  // The arm then turned 90° about its own X (after its Z, which is 0): the end site stays on the arm's X axis.
+  EXPECT_LT((Position(data, 1, 2) - Eigen::Vector3d(0, 15, 0)).norm(), 1e-12);
+  const Eigen::Quaterniond expected = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ())) *
+                                      Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()));
+  EXPECT_LT(Orientation(data, 1, 1).angularDistance(expected), 1e-12);
+  EXPECT_EQ(data.up_axis, 'y');
+}
+
+TEST(BvhReader, ChannelOrderMatters) {
+  // The same two angles in two orders: Z then X, and X then Z, give different (known) orientations.
+  std::string zx = R"(HIERARCHY
+ROOT r
+{
+  OFFSET 0 0 0
+  CHANNELS 3 Zrotation Xrotation Yrotation
+  End Site
+  {
+    OFFSET 0 1 0
+  }
+}
+MOTION
+Frames: 1
+Frame Time: 0.01
+90 90 0
+)";
+  const std::string xz = With(zx, "Zrotation Xrotation", "Xrotation Zrotation");
+  const MarkerData a = ParseBvh(zx, "zx.bvh", {});
+  const MarkerData b = ParseBvh(xz, "xz.bvh", {});
+  // R = Rz(90) Rx(90): (0,1,0) -> Rx -> (0,0,1) -> Rz -> (0,0,1).
+  EXPECT_LT((Position(a, 0, 1) - Eigen::Vector3d(0, 0, 1)).norm(), 1e-12);
+  // R = Rx(90) Rz(90): (0,1,0) -> Rz -> (-1,0,0) -> Rx -> (-1,0,0).
+  EXPECT_LT((Position(b, 0, 1) - Eigen::Vector3d(-1, 0, 0)).norm(), 1e-12);
+}
+
+TEST(BvhReader, DropFirstFrame) {
+  BvhOptions options;
+  options.drop_first_frame = true;
+  const MarkerData data = ParseBvh(kTwoBones, "two.bvh", options);
+  ASSERT_EQ(data.frame_count(), 1);
+  EXPECT_LT((Position(data, 0, 1) - Eigen::Vector3d(0, 10, 0)).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(data.time_s[0], 0.0);
+}
+
+// text with the first `from` replaced by `to` (built by concatenation: GCC 12 warns falsely on
+// std::string::replace at -O2).
+std::string With(const std::string& text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  return text.substr(0, at) + to + text.substr(at + from.size());
+}
+
+int64_t ErrorLine(const std::string& text) {
+  try {
+    (void)ParseBvh(text, "bad.bvh", {});
+  } catch (const DataError& error) {
+    return error.where().line;
+  }
+  return -1;
+}
+
+TEST(BvhReader, MalformedInputIsLocated) {
+  const std::string text = kTwoBones;
+  // Unknown channel (line 5).
+  EXPECT_EQ(ErrorLine(With(text, "Zrotation Xrotation Yrotation\n  JOINT", "Wrotation Xrotation Yrotation\n  JOINT")), 5);
+  // Too few values on the second frame line (20).
+  EXPECT_EQ(ErrorLine(With(text, "0 0 0 90 0 0 0 90 0", "0 0 0 90 0 0 0 90")), 20);
+  // A non-numeric value on the first frame line (19).
+  EXPECT_EQ(ErrorLine(With(text, "1 2 3", "x 2 3")), 19);
+  // Missing closing brace: MOTION (now line 15) comes where JOINT, End or } is expected.
+  EXPECT_EQ(ErrorLine(With(text, "}\nMOTION", "MOTION")), 15);
+  // Fewer frames than declared.
+  EXPECT_GT(ErrorLine(With(text, "Frames: 2", "Frames: 3")), 0);
+  // A frame count the file cannot hold is refused before allocating.
+  EXPECT_GT(ErrorLine(With(text, "Frames: 2", "Frames: 999999999999")), 0);
+}
+
+TEST(BvhReader, TruncatedAndGarbageInputsNeverCrash) {
+  const std::string text = kTwoBones;
+  for (size_t cut = 0; cut < text.size(); ++cut) {
+    try {
+      (void)ParseBvh(text.substr(0, cut), "cut.bvh", {});
+    } catch (const DataError&) {
+    }
+  }
+  std::string garbage = text;
+  for (size_t i = 0; i < garbage.size(); i += 7) garbage[i] = static_cast<char>((i * 131) % 256);
+  try {
+    (void)ParseBvh(garbage, "garbage.bvh", {});
+  } catch (const DataError&) {
+  }
+  SUCCEED();
+}
+
+struct IndexRow {
+  std::string trial, file;
+  int64_t frames = 0;
+  double rate = 0;
+  int joints = 0;
+};
+
+std::vector<IndexRow> ReadIndex() {
+  std::ifstream in(testing::SharedPath("cmu_bvh/index.csv"));
+  std::vector<IndexRow> rows;
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    // Split on commas outside quotes.
+    std::vector<std::string> cells;
+    std::string cell;
+    bool quoted = false;
+    for (char c : line) {
+      if (c == '"') quoted = !quoted;
+      else if (c == ',' && !quoted) cells.push_back(cell), cell.clear();
+      else cell += c;
+    }
+    cells.push_back(cell);
+    IndexRow row;
+    row.trial = cells[1];
+    row.file = cells[2];
+    row.frames = std::stoll(cells[6]);
+    row.rate = std::stod(cells[7]);
+    row.joints = std::stoi(cells[8]);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+TEST(BvhReader, AllCmuTrialsAgreeWithTheIndex) {
+  SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
+  const std::vector<IndexRow> rows = ReadIndex();
+  ASSERT_EQ(rows.size(), 51u);
+  for (const IndexRow& row : rows) {
+    SCOPED_TRACE(row.file);
+    MarkerData data = ReadBvh(testing::SharedPath("cmu_bvh/" + row.file), {});
+    EXPECT_EQ(data.frame_count(), row.frames);
+    EXPECT_NEAR(data.rate_hz, row.rate, 5e-4);
+    EXPECT_EQ(data.metadata["bvh"]["joints"].get<int>(), row.joints);
+    // Bone lengths stay equal to |OFFSET| in every frame: FK composes rigid transforms.
+    const size_t bodies = data.bodies.size();
+    for (size_t b = 1; b < bodies; ++b) {
+      const auto parent = std::find(data.bodies.begin(), data.bodies.end(), data.body_parents[b]) - data.bodies.begin();
+      const double first = (Position(data, 0, static_cast<int>(b)) - Position(data, 0, static_cast<int>(parent))).norm();
+      const int last = static_cast<int>(data.frame_count()) - 1;
+      const double later = (Position(data, last, static_cast<int>(b)) - Position(data, last, static_cast<int>(parent))).norm();
+      ASSERT_NEAR(first, later, 1e-9 * (1 + first)) << data.bodies[b];
+    }
+    // The CMU unit rule gives a human standing height.
+    const double height = data.metadata["bvh"]["rest_height_units"].get<double>() * GuessBvhScaleToMetres(data);
+    EXPECT_GT(height, 1.2);
+    EXPECT_LT(height, 2.0);
+  }
+}
+
+TEST(BvhReader, RootFollowsItsChannels) {
+  SYN_REQUIRE_SHARED("cmu_bvh/02/02_01.bvh");
+  const std::string text = ReadFileText(testing::SharedPath("cmu_bvh/02/02_01.bvh"));
+  const MarkerData data = ParseBvh(text, "02_01.bvh", {});
+  // Independent: the first numbers of the 11th frame line are the root position (its OFFSET is 0 0 0).
+  std::istringstream in(text.substr(text.find("Frame Time:")));
+  std::string line;
+  std::getline(in, line);
+  for (int i = 0; i <= 10; ++i) std::getline(in, line);
+  std::istringstream values(line);
+  Eigen::Vector3d root;
+  values >> root.x() >> root.y() >> root.z();
+  EXPECT_LT((Position(data, 10, 0) - root).norm(), 1e-9);
+}
+
+}  // namespace
+}  // namespace syn
