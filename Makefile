@@ -74,8 +74,8 @@ sanitize-test: setup
 
 fuzz-smoke: setup-fuzz
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYN_FUZZ=ON -DSYN_BENCH=OFF
-	cmake --build build-fuzz -j$(JOBS)
-	@for fuzzer in build-fuzz/bin/*_fuzzer; do \
+	cmake --build build-fuzz -j$(JOBS) --target fuzzers
+	@set -o pipefail; for fuzzer in $$(ls build-fuzz/bin/*_fuzzer 2>/dev/null); do \
 	  name=$$(basename $$fuzzer); corpus=build-fuzz/corpus/$$name; mkdir -p $$corpus; \
 	  echo "== $$name: $(FUZZ_SECONDS) s"; \
 	  $$fuzzer -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1 \
