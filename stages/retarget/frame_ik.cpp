@@ -20,18 +20,19 @@ Eigen::Vector3d RotationError(const Eigen::Matrix3d& current, const Eigen::Quate
 class TrackingCost final : public ceres::CostFunction {
  public:
   TrackingCost(const Model& model, const std::vector<IkTask>& tasks, const Eigen::VectorXd& q_reference,
-               double posture_weight)
+               double posture_weight, double continuity_weight)
       : model_(model),
         workspace_(model),
         tasks_(tasks),
         q_reference_(q_reference),
         posture_weight_(posture_weight),
+        continuity_weight_(continuity_weight),
         first_joint_u_(model.hasFreeBase() ? 6 : 0),
         q_offset_(model.hasFreeBase() ? 1 : 0),
         q0_(model.nq()),
         q_(model.nq()),
         jacobian_(6, model.nu()) {
-    set_num_residuals(static_cast<int>(tasks.size()) * kRowsPerTask + (model.nu() - first_joint_u_));
+    set_num_residuals(static_cast<int>(tasks.size()) * kRowsPerTask + 2 * (model.nu() - first_joint_u_));
     mutable_parameter_block_sizes()->push_back(model.nu());
   }
 
@@ -73,6 +74,13 @@ class TrackingCost final : public ceres::CostFunction {
       r[posture_row + u - first_joint_u_] = posture_weight_ * (q_[q_index] - q_reference_[q_index]);
       if (J) J[static_cast<size_t>(posture_row + u - first_joint_u_) * nu + u] = posture_weight_;
     }
+    // Continuity: joints the tasks leave free (a wrist roll when only the hand's position is known) stay
+    // where the previous frame had them instead of wandering to wherever the posture term is flattest.
+    const int continuity_row = posture_row + nu - first_joint_u_;
+    for (int u = first_joint_u_; u < nu; ++u) {
+      r[continuity_row + u - first_joint_u_] = continuity_weight_ * delta[u];
+      if (J) J[static_cast<size_t>(continuity_row + u - first_joint_u_) * nu + u] = continuity_weight_;
+    }
     return true;
   }
 
@@ -82,6 +90,7 @@ class TrackingCost final : public ceres::CostFunction {
   const std::vector<IkTask>& tasks_;
   const Eigen::VectorXd& q_reference_;
   double posture_weight_;
+  double continuity_weight_;
   int first_joint_u_;
   int q_offset_;
   const std::vector<IkTarget>* targets_ = nullptr;
@@ -124,7 +133,7 @@ struct FrameIk::Impl {
        const FrameIkOptions& options_in)
       : model(model_in), tasks(std::move(tasks_in)), q_reference(q_ref), options(options_in),
         delta(Eigen::VectorXd::Zero(model_in.nu())), workspace(model_in) {
-    cost = new TrackingCost(model, tasks, q_reference, posture_weight);
+    cost = new TrackingCost(model, tasks, q_reference, posture_weight, options.continuity_weight);
     problem.AddResidualBlock(cost, nullptr, delta.data());
     const int offset = model.hasFreeBase() ? 1 : 0;
     const int first_joint = model.hasFreeBase() ? 6 : 0;

@@ -3,6 +3,7 @@
 //
 // Minimises, over q near the previous frame's solution (warm start),
 //   Σ_tasks ‖w_i (p_i(q) − p_i*)‖² + ‖w_i log(R_i(q) R_i*ᵀ)‖²  +  ‖w_p (q_joints − q_ref)‖²
+//   + ‖w_c (q_joints − q_previous)‖²
 // with Ceres (Levenberg–Marquardt, dense normal Cholesky), joint limits as
 // parameter bounds, and analytic Jacobians from the model (no autodiff
 // through Simbody). The unknown is a velocity-space step δ (size nu) applied
@@ -38,6 +39,9 @@ struct IkTarget {
 };
 
 struct FrameIkOptions {
+  // Weight of ‖q_joints − q_previous‖ (per rad): small, so it only settles
+  // joints no task constrains; tracked joints move as the targets say.
+  double continuity_weight = 0.01;
   int max_iterations = 50;
   // Stop when the cost changes by less than this fraction (Ceres function_tolerance).
   double function_tolerance = 1e-9;

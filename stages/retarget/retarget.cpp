@@ -173,10 +173,6 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
     ik_task.type = task.type;
     ik_task.weight = map.priority_weights[static_cast<size_t>(task.priority - 1)] * task.weight;
     if (!landmarks.has_orientation[static_cast<size_t>(landmark)] && task.type != TaskType::kPosition) {
-      if (task.type == TaskType::kOrientation) {
-        report.notes.push_back(task.landmark + " has no orientation in this marker set: orientation task dropped");
-        continue;
-      }
       report.notes.push_back(task.landmark + " has no orientation in this marker set: tracked by position only");
       ik_task.type = TaskType::kPosition;
     }
