@@ -1,0 +1,488 @@
+#include "stages/ingest/c3d_reader.h"
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+
+#include "common/error.h"
+#include "common/file_bytes.h"
+
+namespace syn {
+namespace {
+
+constexpr size_t kBlock = 512;
+
+enum class Processor { kIntel = 84, kDec = 85, kMips = 86 };
+
+// Number decoding for one processor type. Branching happens once per value
+// kind, not per sample: the hot loops below are instantiated per processor.
+struct Numbers {
+  Processor processor = Processor::kIntel;
+
+  int16_t int16(const uint8_t* p) const {
+    return processor == Processor::kMips ? static_cast<int16_t>((p[0] << 8) | p[1])
+                                         : static_cast<int16_t>(p[0] | (p[1] << 8));
+  }
+  uint16_t uint16(const uint8_t* p) const { return static_cast<uint16_t>(int16(p)); }
+  float float32(const uint8_t* p) const {
+    uint8_t b[4];
+    if (processor == Processor::kMips) {
+      b[0] = p[3], b[1] = p[2], b[2] = p[1], b[3] = p[0];
+    } else if (processor == Processor::kDec) {
+      // VAX F-float: swap the 16-bit words, read as IEEE, divide by 4 (exponent bias 128 vs 127, hidden bit at 0.5).
+      b[0] = p[2], b[1] = p[3], b[2] = p[0], b[3] = p[1];
+    } else {
+      std::memcpy(b, p, 4);
+    }
+    float value;
+    std::memcpy(&value, b, 4);
+    return processor == Processor::kDec ? value / 4.0f : value;
+  }
+};
+
+struct Parameter {
+  int type = 0;                  // -1 char, 1 byte, 2 int16, 4 float
+  std::vector<int> dimensions;
+  const uint8_t* data = nullptr;
+  size_t data_size = 0;
+  size_t offset = 0;
+
+  size_t count() const {
+    size_t n = 1;
+    for (int d : dimensions) n *= static_cast<size_t>(d);
+    return n;
+  }
+};
+
+using Parameters = std::map<std::string, Parameter>;  // "GROUP:NAME"
+
+std::string Upper(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return text;
+}
+
+std::string TrimRight(std::string text) {
+  while (!text.empty() && (text.back() == ' ' || text.back() == '\0')) text.pop_back();
+  size_t start = 0;
+  while (start < text.size() && text[start] == ' ') ++start;
+  return text.substr(start);
+}
+
+// Parses the parameter section, following each record's "offset to next".
+// A corrupt section ends the walk with a warning: what was read is kept.
+Parameters ReadParameters(const uint8_t* bytes, size_t size, size_t start, size_t data_start, const Numbers& numbers,
+                          std::vector<std::string>& warnings, const std::string& source) {
+  Parameters parameters;
+  if (start + 4 > size) return parameters;
+  // The section ends where the data begins (when the data comes after it), else at the end of the file.
+  // Its own block count (byte 1) is not trusted: Qualisys writes one smaller than what it uses.
+  const size_t blocks = bytes[start + 1];
+  const size_t end = std::min(size, std::max(start + std::max<size_t>(blocks, 1) * kBlock, data_start > start ? data_start : size));
+  std::map<int, std::string> group_names;
+  struct Pending {
+    int group;
+    std::string name;
+    Parameter parameter;
+  };
+  std::vector<Pending> pending;
+  size_t position = start + 4;
+  for (int guard = 0; guard < 100000 && position + 2 <= end; ++guard) {
+    const int name_length = std::abs(static_cast<int8_t>(bytes[position]));
+    const int group = static_cast<int8_t>(bytes[position + 1]);
+    if (name_length == 0 || group == 0) break;
+    const size_t name_at = position + 2;
+    if (name_at + static_cast<size_t>(name_length) + 2 > end) {
+      warnings.push_back("parameter section: record at byte offset " + std::to_string(position) +
+                         " runs past the section; stopped reading parameters there");
+      break;
+    }
+    const std::string name = Upper(std::string(reinterpret_cast<const char*>(bytes + name_at), static_cast<size_t>(name_length)));
+    const size_t offset_at = name_at + static_cast<size_t>(name_length);
+    const int next_offset = numbers.int16(bytes + offset_at);
+    const size_t body = offset_at + 2;
+    if (group < 0) {
+      group_names[-group] = name;
+    } else {
+      Parameter parameter;
+      parameter.offset = position;
+      bool ok = body + 2 <= end;
+      if (ok) {
+        parameter.type = static_cast<int8_t>(bytes[body]);
+        const int dimension_count = bytes[body + 1];
+        ok = (parameter.type == -1 || parameter.type == 1 || parameter.type == 2 || parameter.type == 4) &&
+             body + 2 + static_cast<size_t>(dimension_count) <= end;
+        if (ok) {
+          for (int d = 0; d < dimension_count; ++d) parameter.dimensions.push_back(bytes[body + 2 + static_cast<size_t>(d)]);
+          parameter.data = bytes + body + 2 + dimension_count;
+          parameter.data_size = parameter.count() * static_cast<size_t>(std::abs(parameter.type));
+          ok = static_cast<size_t>(parameter.data - bytes) + parameter.data_size <= size;
+        }
+      }
+      if (ok) {
+        pending.push_back({group, name, parameter});
+      } else {
+        warnings.push_back("parameter " + name + " at byte offset " + std::to_string(position) +
+                           " is malformed or runs past the file; ignored");
+      }
+    }
+    if (next_offset <= 0) break;  // last record
+    const size_t next = offset_at + static_cast<size_t>(next_offset);
+    if (next <= position || next >= end) {
+      warnings.push_back("parameter section: 'offset to next' at byte offset " + std::to_string(offset_at) +
+                         " points outside the section; stopped reading parameters there");
+      break;
+    }
+    position = next;
+  }
+  for (Pending& entry : pending) {
+    const auto group = group_names.find(entry.group);
+    if (group == group_names.end()) continue;
+    parameters[group->second + ":" + entry.name] = entry.parameter;
+  }
+  (void)source;
+  return parameters;
+}
+
+const Parameter* Find(const Parameters& parameters, const std::string& key) {
+  const auto found = parameters.find(key);
+  return found == parameters.end() ? nullptr : &found->second;
+}
+
+double NumberAt(const Parameter& parameter, size_t index, const Numbers& numbers) {
+  if (index >= parameter.count()) return std::nan("");
+  switch (parameter.type) {
+    case 1: return parameter.data[index];
+    case 2: return numbers.int16(parameter.data + 2 * index);
+    case 4: return numbers.float32(parameter.data + 4 * index);
+    default: return std::nan("");
+  }
+}
+
+std::vector<double> Numbers_(const Parameters& parameters, const std::string& key, const Numbers& numbers) {
+  std::vector<double> values;
+  const Parameter* parameter = Find(parameters, key);
+  if (!parameter || parameter->type == -1) return values;
+  for (size_t i = 0; i < parameter->count(); ++i) values.push_back(NumberAt(*parameter, i, numbers));
+  return values;
+}
+
+double Number(const Parameters& parameters, const std::string& key, const Numbers& numbers, double fallback) {
+  const Parameter* parameter = Find(parameters, key);
+  if (!parameter || parameter->type == -1 || parameter->count() == 0) return fallback;
+  return NumberAt(*parameter, 0, numbers);
+}
+
+// A char parameter as strings: the first dimension is the string length.
+std::vector<std::string> Strings(const Parameters& parameters, const std::string& key) {
+  std::vector<std::string> strings;
+  const Parameter* parameter = Find(parameters, key);
+  if (!parameter || parameter->type != -1) return strings;
+  if (parameter->dimensions.empty()) return strings;
+  const size_t length = static_cast<size_t>(parameter->dimensions[0]);
+  if (length == 0) return strings;
+  const size_t count = parameter->count() / length;
+  for (size_t i = 0; i < count; ++i) {
+    strings.push_back(TrimRight(std::string(reinterpret_cast<const char*>(parameter->data + i * length), length)));
+  }
+  return strings;
+}
+
+// LABELS, LABELS2, LABELS3 ... concatenated.
+std::vector<std::string> ConcatenatedStrings(const Parameters& parameters, const std::string& group, const std::string& name) {
+  std::vector<std::string> all = Strings(parameters, group + ":" + name);
+  for (int k = 2; k < 100; ++k) {
+    const std::string key = group + ":" + name + std::to_string(k);
+    if (!Find(parameters, key)) break;
+    const std::vector<std::string> more = Strings(parameters, key);
+    all.insert(all.end(), more.begin(), more.end());
+  }
+  return all;
+}
+
+double UnitToMetres(const std::string& unit) {
+  const std::string lower = Upper(unit);
+  if (lower == "MM") return 0.001;
+  if (lower == "CM") return 0.01;
+  if (lower == "M") return 1.0;
+  return 0.0;
+}
+
+nlohmann::json ParameterJson(const Parameter& parameter, const Parameters& parameters, const std::string& key,
+                             const Numbers& numbers) {
+  if (parameter.type == -1) return Strings(parameters, key);
+  return Numbers_(parameters, key, numbers);
+}
+
+}  // namespace
+
+MarkerData ParseC3d(const uint8_t* bytes, size_t size, const std::string& source_name) {
+  const auto fail = [&](size_t offset, const std::string& message) {
+    return DataError(Location::AtByte(source_name, static_cast<int64_t>(offset)), message);
+  };
+  if (size < kBlock) throw fail(0, "a C3D file has at least one 512-byte header block; this one has " + std::to_string(size) + " bytes");
+  const size_t parameter_block = bytes[0];
+  if (bytes[1] != 0x50 && parameter_block < 2) throw fail(1, "not a C3D file: expected the key byte 0x50 at offset 1");
+  MarkerData data;
+  // Processor type: byte 4 of the parameter section (83 + type). Without a
+  // parameter section (or a garbled one), guess Intel, the common case.
+  Numbers numbers;
+  const size_t parameter_start = parameter_block >= 2 ? (parameter_block - 1) * kBlock : 0;
+  bool has_parameters = parameter_start >= kBlock && parameter_start + 4 <= size;
+  if (has_parameters) {
+    const int processor = bytes[parameter_start + 3];
+    if (processor == 84 || processor == 85 || processor == 86) {
+      numbers.processor = static_cast<Processor>(processor);
+    } else {
+      data.warnings.push_back("processor type byte " + std::to_string(processor) + " at byte offset " +
+                              std::to_string(parameter_start + 3) + " is not 84/85/86: no parameter section; using the header only");
+      has_parameters = false;
+    }
+  } else {
+    data.warnings.push_back("no parameter section: using the header only");
+  }
+
+  // Header words (1-based word n sits at byte 2(n-1)).
+  const auto word = [&](int n) { return numbers.uint16(bytes + 2 * (n - 1)); };
+  const size_t header_points = word(2);
+  const size_t header_analog_per_frame = word(3);
+  const size_t header_first = word(4);
+  const size_t header_last = word(5);
+  const float header_scale = numbers.float32(bytes + 12);
+  const size_t header_data_block = word(9);
+  const float header_rate = numbers.float32(bytes + 20);
+
+  Parameters parameters;
+  if (has_parameters) {
+    parameters = ReadParameters(bytes, size, parameter_start, header_data_block >= 2 ? (header_data_block - 1) * kBlock : 0,
+                                numbers, data.warnings, source_name);
+  }
+
+  // Points.
+  const double used = Number(parameters, "POINT:USED", numbers, static_cast<double>(header_points));
+  size_t points = static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(used)));
+  if (points != header_points) {
+    data.warnings.push_back("POINT:USED (" + std::to_string(points) + ") differs from the header (" +
+                            std::to_string(header_points) + "); using the header");
+    points = header_points;
+  }
+  double scale = Number(parameters, "POINT:SCALE", numbers, header_scale);
+  if (!std::isfinite(scale) || scale == 0) scale = header_scale;
+  const bool floats = scale < 0;
+  double rate = Number(parameters, "POINT:RATE", numbers, header_rate);
+  if (!(rate > 0) || !std::isfinite(rate)) rate = header_rate;
+  if (!(rate > 0) || !std::isfinite(rate)) throw fail(20, "no usable frame rate (header and POINT:RATE)");
+  data.rate_hz = rate;
+  size_t data_block = static_cast<size_t>(Number(parameters, "POINT:DATA_START", numbers, 0));
+  if (data_block < 2) data_block = header_data_block;
+  else if (data_block != header_data_block) data.warnings.push_back("POINT:DATA_START differs from the header; using the header");
+  data_block = header_data_block;
+  if (data_block < 2) throw fail(16, "the header's data-start block (word 9) is " + std::to_string(data_block) + "; expected >= 2");
+  const size_t data_start = (data_block - 1) * kBlock;
+  if (data_start > size) throw fail(16, "the data section starts at byte " + std::to_string(data_start) + ", past the end of the file");
+
+  // Analog layout.
+  size_t analog_channels = static_cast<size_t>(std::max(0.0, Number(parameters, "ANALOG:USED", numbers, 0)));
+  size_t analog_per_frame = header_analog_per_frame;
+  size_t analog_subframes = 0;
+  if (analog_channels > 0 && analog_per_frame % analog_channels == 0) analog_subframes = analog_per_frame / analog_channels;
+  if (analog_channels > 0 && analog_subframes == 0) {
+    data.warnings.push_back("ANALOG:USED does not divide the header's analog samples per frame; analog data ignored");
+    analog_channels = 0;
+  }
+  if (analog_channels == 0) analog_subframes = 0;
+
+  // Frames: header (16-bit), or TRIAL:ACTUAL_*_FIELD for long trials; then what the file holds.
+  size_t frames = header_last >= header_first ? header_last - header_first + 1 : 0;
+  const std::vector<double> start_field = Numbers_(parameters, "TRIAL:ACTUAL_START_FIELD", numbers);
+  const std::vector<double> end_field = Numbers_(parameters, "TRIAL:ACTUAL_END_FIELD", numbers);
+  if (start_field.size() >= 2 && end_field.size() >= 2) {
+    const auto field = [](const std::vector<double>& words) {
+      return static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(words[0]))) +
+             (static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(words[1]))) << 16);
+    };
+    const size_t first = field(start_field), last = field(end_field);
+    if (last >= first && last - first + 1 > frames) frames = last - first + 1;
+  }
+  const double point_frames = Number(parameters, "POINT:FRAMES", numbers, -1);
+  const size_t value_bytes = floats ? 4 : 2;
+  // The frame layout comes from the header alone: analog values we cannot interpret still take their place.
+  const size_t frame_bytes = (points * 4 + header_analog_per_frame) * value_bytes;
+  if (frame_bytes == 0) {
+    // No points and no analog (Theia's ROTATION-only files): the header's frame count still times the trial.
+  } else {
+    const size_t available = (size - data_start) / frame_bytes;
+    if (point_frames > 0) {
+      const size_t stated = static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(point_frames)));
+      if (stated > frames && stated <= available) {
+        data.warnings.push_back("header says " + std::to_string(frames) + " frames, POINT:FRAMES " +
+                                std::to_string(stated) + ", and the file holds them: using " + std::to_string(stated));
+        frames = stated;
+      } else if (stated > frames) {
+        // c3d.org sample13 (Dance): header 499, POINT:FRAMES 500, and the file holds exactly 499.
+        data.warnings.push_back("POINT:FRAMES says " + std::to_string(stated) + " but the file holds " +
+                                std::to_string(std::min(available, frames)) + " frames, as the header says: using the header");
+      }
+    }
+    if (available < frames) {
+      data.warnings.push_back("the data section holds " + std::to_string(available) + " complete frames of the " +
+                              std::to_string(frames) + " declared (truncated file); reading those");
+      frames = available;
+    }
+  }
+
+  // Labels and units.
+  std::vector<std::string> labels = ConcatenatedStrings(parameters, "POINT", "LABELS");
+  labels.resize(points);
+  for (size_t i = 0; i < points; ++i) {
+    if (labels[i].empty()) labels[i] = "Point" + std::to_string(i + 1);
+  }
+  const std::vector<std::string> units = Strings(parameters, "POINT:UNITS");
+  data.length_unit_to_m = 0.001;
+  if (!units.empty()) {
+    const double unit = UnitToMetres(units[0]);
+    if (unit > 0) data.length_unit_to_m = unit;
+    else data.warnings.push_back("POINT:UNITS '" + units[0] + "' is not mm, cm or m; assuming mm");
+    for (const std::string& other : units) {
+      if (UnitToMetres(other) != UnitToMetres(units[0])) {
+        data.warnings.push_back("POINT:UNITS lists different units per point; using '" + units[0] + "'");
+        break;
+      }
+    }
+  }
+  const std::vector<std::string> y_screen = Strings(parameters, "POINT:Y_SCREEN");
+  data.up_axis = 'z';
+  if (!y_screen.empty() && y_screen[0].size() == 2) {
+    const char axis = static_cast<char>(std::tolower(static_cast<unsigned char>(y_screen[0][1])));
+    if (axis == 'x' || axis == 'y' || axis == 'z') data.up_axis = axis;
+  }
+
+  // Computed points (angles, forces ...) are not markers.
+  std::map<std::string, std::string> computed_kind;
+  for (const auto& [group_key, kind] : std::vector<std::pair<std::string, std::string>>{
+           {"ANGLES", "angle"}, {"FORCES", "force"}, {"MOMENTS", "moment"}, {"POWERS", "power"},
+           {"SCALARS", "scalar"}, {"REACTIONS", "reaction"}}) {
+    for (const std::string& label : ConcatenatedStrings(parameters, "POINT", group_key)) computed_kind[label] = kind;
+  }
+  std::vector<size_t> marker_index, computed_index;
+  for (size_t i = 0; i < points; ++i) {
+    const auto kind = computed_kind.find(labels[i]);
+    if (kind != computed_kind.end() && !labels[i].empty()) {
+      computed_index.push_back(i);
+      data.computed_labels.push_back(labels[i]);
+      data.computed_kinds.push_back(kind->second);
+    } else {
+      marker_index.push_back(i);
+      data.labels.push_back(labels[i]);
+    }
+  }
+
+  // Analog scaling.
+  std::vector<std::string> analog_labels = ConcatenatedStrings(parameters, "ANALOG", "LABELS");
+  std::vector<std::string> analog_units = ConcatenatedStrings(parameters, "ANALOG", "UNITS");
+  std::vector<double> analog_scale = Numbers_(parameters, "ANALOG:SCALE", numbers);
+  std::vector<double> analog_offset = Numbers_(parameters, "ANALOG:OFFSET", numbers);
+  for (int k = 2; k < 10; ++k) {
+    const std::vector<double> more_scale = Numbers_(parameters, "ANALOG:SCALE" + std::to_string(k), numbers);
+    analog_scale.insert(analog_scale.end(), more_scale.begin(), more_scale.end());
+    const std::vector<double> more_offset = Numbers_(parameters, "ANALOG:OFFSET" + std::to_string(k), numbers);
+    analog_offset.insert(analog_offset.end(), more_offset.begin(), more_offset.end());
+  }
+  const double general_scale = Number(parameters, "ANALOG:GEN_SCALE", numbers, 1.0);
+  const std::vector<std::string> analog_format = Strings(parameters, "ANALOG:FORMAT");
+  const bool unsigned_analog = !analog_format.empty() && Upper(analog_format[0]) == "UNSIGNED";
+  if (analog_channels > 0) {
+    analog_labels.resize(analog_channels);
+    analog_units.resize(analog_channels);
+    for (size_t c = 0; c < analog_channels; ++c) {
+      if (analog_labels[c].empty()) analog_labels[c] = "Channel" + std::to_string(c + 1);
+    }
+    analog_scale.resize(analog_channels, 1.0);
+    analog_offset.resize(analog_channels, 0.0);
+    for (double& offset : analog_offset) {
+      if (unsigned_analog && offset < 0) offset += 65536.0;
+    }
+    data.analog_labels = analog_labels;
+    data.analog_units = analog_units;
+    data.analog_rate_hz = rate * static_cast<double>(analog_subframes);
+  }
+
+  // Data section: one tight loop per storage kind.
+  const size_t markers = data.labels.size();
+  const size_t computed = data.computed_labels.size();
+  data.time_s.resize(frames);
+  data.points.assign(frames * markers * 3, std::nan(""));
+  data.computed_points.assign(frames * computed * 3, std::nan(""));
+  data.analog.assign(frames * analog_subframes * analog_channels, 0.0);
+  std::vector<size_t> destination(points);  // slot of each stored point in points / computed_points
+  std::vector<bool> is_computed(points, false);
+  for (size_t k = 0; k < marker_index.size(); ++k) destination[marker_index[k]] = k;
+  for (size_t k = 0; k < computed_index.size(); ++k) destination[computed_index[k]] = k, is_computed[computed_index[k]] = true;
+  const double integer_scale = std::abs(scale);
+  for (size_t t = 0; t < frames; ++t) {
+    data.time_s[t] = static_cast<double>(t) / rate;
+    const uint8_t* frame = bytes + data_start + t * frame_bytes;
+    for (size_t p = 0; p < points; ++p) {
+      double x, y, z;
+      bool valid;
+      if (floats) {
+        const uint8_t* v = frame + p * 16;
+        x = numbers.float32(v), y = numbers.float32(v + 4), z = numbers.float32(v + 8);
+        const float residual = numbers.float32(v + 12);
+        valid = residual >= 0 && std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
+      } else {
+        const uint8_t* v = frame + p * 8;
+        x = numbers.int16(v) * integer_scale, y = numbers.int16(v + 2) * integer_scale, z = numbers.int16(v + 4) * integer_scale;
+        valid = numbers.int16(v + 6) >= 0;
+      }
+      if (x == 0 && y == 0 && z == 0) valid = false;
+      if (!valid) continue;
+      double* out = is_computed[p] ? &data.computed_points[(t * computed + destination[p]) * 3]
+                                   : &data.points[(t * markers + destination[p]) * 3];
+      out[0] = x, out[1] = y, out[2] = z;
+    }
+    const uint8_t* analog = frame + points * 4 * value_bytes;
+    for (size_t s = 0; s < analog_subframes; ++s) {
+      for (size_t c = 0; c < analog_channels; ++c) {
+        const uint8_t* v = analog + (s * analog_channels + c) * value_bytes;
+        const double raw = floats ? numbers.float32(v) : (unsigned_analog ? numbers.uint16(v) : numbers.int16(v));
+        data.analog[(t * analog_subframes + s) * analog_channels + c] = (raw - analog_offset[c]) * analog_scale[c] * general_scale;
+      }
+    }
+  }
+
+  // Events: EVENT group (times are minutes, seconds pairs).
+  const std::vector<std::string> event_labels = Strings(parameters, "EVENT:LABELS");
+  const std::vector<std::string> event_contexts = Strings(parameters, "EVENT:CONTEXTS");
+  const std::vector<double> event_times = Numbers_(parameters, "EVENT:TIMES", numbers);
+  const size_t event_count = std::min<size_t>(event_labels.size(), event_times.size() / 2);
+  for (size_t e = 0; e < event_count; ++e) {
+    data.events.push_back({event_labels[e], e < event_contexts.size() ? event_contexts[e] : "",
+                           event_times[2 * e] * 60.0 + event_times[2 * e + 1]});
+  }
+
+  // Facts worth keeping.
+  nlohmann::json& meta = data.metadata["c3d"];
+  meta["processor"] = numbers.processor == Processor::kIntel ? "intel" : numbers.processor == Processor::kDec ? "dec" : "mips";
+  meta["storage"] = floats ? "float" : "int16";
+  meta["scale"] = scale;
+  meta["header_first_frame"] = header_first;
+  meta["header_last_frame"] = header_last;
+  meta["points_in_file"] = points;
+  for (const char* group : {"FORCE_PLATFORM", "SUBJECTS", "MANUFACTURER", "ROTATION"}) {
+    for (const auto& [key, parameter] : parameters) {
+      if (key.rfind(std::string(group) + ":", 0) == 0) meta[group][key.substr(std::strlen(group) + 1)] = ParameterJson(parameter, parameters, key, numbers);
+    }
+  }
+  if (Find(parameters, "ROTATION:USED") && Number(parameters, "ROTATION:USED", numbers, 0) > 0) {
+    data.warnings.push_back("the ROTATION group (segment matrices) is not read yet; only its parameters are kept");
+  }
+  return data;
+}
+
+MarkerData ReadC3d(const std::string& path) {
+  const std::vector<uint8_t> bytes = ReadFileBytes(path);
+  return ParseC3d(bytes.data(), bytes.size(), path);
+}
+
+}  // namespace syn
