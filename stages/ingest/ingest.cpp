@@ -9,23 +9,10 @@
 #include "stages/ingest/capture_format.h"
 #include "stages/ingest/capture_normalization.h"
 #include "stages/ingest/bvh_reader.h"
-// TEMPORARY integration guards (removed once all readers land).
-#if __has_include("stages/ingest/c3d_reader.h")
 #include "stages/ingest/c3d_reader.h"
-#define SYN_HAS_C3D 1
-#endif
-#if __has_include("stages/ingest/trc_reader.h")
-#include "stages/ingest/trc_reader.h"
-#define SYN_HAS_TRC 1
-#endif
-#if __has_include("stages/ingest/motive_csv_reader.h")
 #include "stages/ingest/motive_csv_reader.h"
-#define SYN_HAS_MOTIVE 1
-#endif
-#if __has_include("stages/ingest/npy_reader.h")
 #include "stages/ingest/npy_reader.h"
-#define SYN_HAS_NPY 1
-#endif
+#include "stages/ingest/trc_reader.h"
 
 namespace syn {
 namespace {
@@ -68,22 +55,14 @@ MarkerData ReadWithFormat(const std::string& path, CaptureFormat format, const s
                           const IngestOptions& options) {
   const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   switch (format) {
-#ifdef SYN_HAS_C3D
     case CaptureFormat::kC3d:
       return ParseC3d(bytes.data(), bytes.size(), path);
-#endif
-#ifdef SYN_HAS_TRC
     case CaptureFormat::kTrc:
       return ParseTrc(text, path);
-#endif
-#ifdef SYN_HAS_MOTIVE
     case CaptureFormat::kMotiveCsv:
       return ParseMotiveCsv(text, path);
-#endif
-#ifdef SYN_HAS_NPY
     case CaptureFormat::kNpy:
       return HumanMl3dJointsToMarkerData(ParseNpy(bytes.data(), bytes.size(), path), path);
-#endif
     case CaptureFormat::kBvh: {
       BvhOptions bvh;
       bvh.drop_first_frame = options.drop_first_frame;
@@ -93,10 +72,8 @@ MarkerData ReadWithFormat(const std::string& path, CaptureFormat format, const s
       data.length_unit_to_m = scale;
       return data;
     }
-    default:
-      break;
   }
-  throw DataError(Location::InFile(path), "reader for " + std::string(CaptureFormatName(format)) + " not integrated yet");
+  throw DataError(Location::InFile(path), "unsupported format");
 }
 
 }  // namespace
