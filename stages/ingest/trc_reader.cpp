@@ -75,8 +75,18 @@ MarkerData ParseTrc(std::string_view text, const std::string& source_name) {
   need_line("marker-name row (Frame# Time NAME ...)");
   if (line.find('\t') != std::string_view::npos) SplitFields(line, '\t', fields);
   else SplitWhitespace(line, fields);
-  // Keep a place for every column triple, named or not: a blank name must not shift the columns after it.
-  for (size_t column = 2; column < fields.size(); column += 3) data.labels.emplace_back(Trim(fields[column]));
+  // Names normally sit every third column; keep a place for each triple, named or not, so a blank name
+  // does not shift the ones after it. Some writers space them differently (OpenSim's own TRC export
+  // puts two tabs after each name): when the non-empty names alone number NumMarkers, take them in order.
+  std::vector<std::string> named;
+  for (size_t column = 2; column < fields.size(); ++column) {
+    if (!Trim(fields[column]).empty()) named.emplace_back(Trim(fields[column]));
+  }
+  if (declared_markers >= 0 && named.size() == static_cast<size_t>(declared_markers)) {
+    data.labels = named;
+  } else {
+    for (size_t column = 2; column < fields.size(); column += 3) data.labels.emplace_back(Trim(fields[column]));
+  }
   while (!data.labels.empty() && data.labels.back().empty()) data.labels.pop_back();
   if (declared_markers >= 0) {
     const size_t declared = static_cast<size_t>(declared_markers);
