@@ -218,3 +218,27 @@ TEST(ModelDynamics, FixedJointMergeCombinesMassProperties) {
 
 }  // namespace
 }  // namespace syn
+
+namespace syn {
+namespace {
+
+TEST(ModelDynamics, AnalyticFrameJacobianEqualsSimbodys) {
+  std::mt19937 random(17);
+  for (const char* robot : kRobots) {
+    SYN_REQUIRE_SHARED(robot);
+    SCOPED_TRACE(robot);
+    const Model model = Model::Load(testing::SharedPath(robot));
+    Workspace workspace(model);
+    workspace.setQ(RandomConfiguration(model, random));
+    Eigen::Matrix<double, 6, Eigen::Dynamic> analytic, simbody;
+    for (size_t link = 0; link < model.linkNames().size(); ++link) {
+      const Eigen::Vector3d point(0.03, -0.02, 0.05);
+      workspace.calcFrameJacobian(static_cast<int>(link), point, analytic);
+      workspace.calcFrameJacobianWithSimbody(static_cast<int>(link), point, simbody);
+      EXPECT_LT((analytic - simbody).cwiseAbs().maxCoeff(), 1e-12) << model.linkNames()[link];
+    }
+  }
+}
+
+}  // namespace
+}  // namespace syn
