@@ -1,5 +1,6 @@
 #include "stages/ingest/npy_reader.h"
 
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -86,7 +87,12 @@ NpyArray ParseNpy(const uint8_t* bytes, size_t size, const std::string& source_n
     size_t end = position;
     while (end < shape.size() && std::isdigit(static_cast<unsigned char>(shape[end]))) ++end;
     if (end == position) throw fail(header_start, "malformed NPY shape (" + shape + ")");
-    array.shape.push_back(std::stoll(shape.substr(position, end - position)));
+    int64_t dimension = 0;
+    const auto [parsed, error] = std::from_chars(shape.data() + position, shape.data() + end, dimension);
+    if (error != std::errc() || parsed != shape.data() + end) {
+      throw fail(header_start, "NPY shape dimension out of range (" + shape + ")");
+    }
+    array.shape.push_back(dimension);
     position = end;
   }
   if (array.dtype.find('O') != std::string::npos) {

@@ -241,6 +241,21 @@ TEST(NpyReader, RefusesWhatIsNotJointPositions) {
   EXPECT_EQ(array.shape[1], 263);
 }
 
+// Inputs the fuzzers found; each must end in a DataError.
+TEST(FuzzRegressions, EachEndsInADataError) {
+  const std::string folder = testing::SourcePath("tests/ingest/regressions");
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    const std::vector<uint8_t> bytes = ReadFileBytes(entry.path().string());
+    SCOPED_TRACE(entry.path().string());
+    ++count;
+    if (entry.path().extension() == ".npy") {
+      EXPECT_THROW((void)HumanMl3dJointsToMarkerData(ParseNpy(bytes.data(), bytes.size(), "r.npy"), "r.npy"), DataError);
+    }
+  }
+  EXPECT_GE(count, 1);
+}
+
 TEST(TextReaders, DamagedInputsNeverCrash) {
   const std::string trc = "PathFileType\t4\t(X/Y/Z)\tx.trc\nDataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\n100\t100\t2\t1\tmm\n"
                           "Frame#\tTime\tA\t\t\n\t\tX1\tY1\tZ1\n1\t0\t1\t2\t3\n2\t0.01\t4\t5\t6\n";
