@@ -5,6 +5,8 @@
 #include <limits>
 #include <map>
 
+#include <Eigen/Geometry>
+
 #include "common/error.h"
 #include "common/file_bytes.h"
 
@@ -212,6 +214,51 @@ nlohmann::json ParameterJson(const Parameter& parameter, const Parameters& param
                              const Numbers& numbers) {
   if (parameter.type == -1) return Strings(parameters, key);
   return Numbers_(parameters, key, numbers);
+}
+
+// The C3D rotation extension (Theia3D markerless): per frame and segment a 4×4
+// pose matrix stored column-major as 16 floats plus one reliability value,
+// from block ROTATION:DATA_START. Segments become bodies.
+void ReadRotations(const uint8_t* bytes, size_t size, const Parameters& parameters, const Numbers& numbers,
+                   size_t frames, MarkerData& data) {
+  const double used = Number(parameters, "ROTATION:USED", numbers, 0);
+  const double start_block = Number(parameters, "ROTATION:DATA_START", numbers, 0);
+  if (!(used > 0) || !(start_block >= 2)) return;
+  const size_t segments = static_cast<size_t>(used);
+  const size_t start = (static_cast<size_t>(start_block) - 1) * kBlock;
+  const size_t frame_bytes = segments * 17 * 4;
+  if (start >= size) {
+    data.warnings.push_back("ROTATION:DATA_START points past the end of the file; rotations ignored");
+    return;
+  }
+  size_t rotation_frames = frames;
+  if ((size - start) / frame_bytes < rotation_frames) {
+    rotation_frames = (size - start) / frame_bytes;
+    data.warnings.push_back("the rotation data holds " + std::to_string(rotation_frames) + " of " +
+                            std::to_string(frames) + " frames (truncated)");
+  }
+  std::vector<std::string> labels = ConcatenatedStrings(parameters, "ROTATION", "LABELS");
+  labels.resize(segments);
+  for (size_t k = 0; k < segments; ++k) {
+    if (labels[k].empty()) labels[k] = "Segment" + std::to_string(k + 1);
+    data.bodies.push_back(labels[k]);
+    data.body_parents.push_back("");
+  }
+  data.body_pose.assign(frames * segments * 7, std::nan(""));
+  for (size_t t = 0; t < rotation_frames; ++t) {
+    for (size_t k = 0; k < segments; ++k) {
+      const uint8_t* v = bytes + start + t * frame_bytes + k * 17 * 4;
+      Eigen::Matrix4d pose;
+      for (int column = 0; column < 4; ++column) {
+        for (int row = 0; row < 4; ++row) pose(row, column) = numbers.float32(v + 4 * (column * 4 + row));
+      }
+      if (!pose.allFinite()) continue;
+      const Eigen::Quaterniond orientation(pose.topLeftCorner<3, 3>());
+      double* out = &data.body_pose[(t * segments + k) * 7];
+      out[0] = pose(0, 3), out[1] = pose(1, 3), out[2] = pose(2, 3);
+      out[3] = orientation.w(), out[4] = orientation.x(), out[5] = orientation.y(), out[6] = orientation.z();
+    }
+  }
 }
 
 }  // namespace
@@ -474,9 +521,7 @@ MarkerData ParseC3d(const uint8_t* bytes, size_t size, const std::string& source
       if (key.rfind(std::string(group) + ":", 0) == 0) meta[group][key.substr(std::strlen(group) + 1)] = ParameterJson(parameter, parameters, key, numbers);
     }
   }
-  if (Find(parameters, "ROTATION:USED") && Number(parameters, "ROTATION:USED", numbers, 0) > 0) {
-    data.warnings.push_back("the ROTATION group (segment matrices) is not read yet; only its parameters are kept");
-  }
+  ReadRotations(bytes, size, parameters, numbers, frames, data);
   return data;
 }
 

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <Eigen/Geometry>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -236,6 +238,37 @@ TEST(C3dReader, DamagedFilesNeverCrash) {
     }
   }
   SUCCEED();
+}
+
+}  // namespace
+}  // namespace syn
+
+namespace syn {
+namespace {
+
+TEST(C3dReader, TheiaRotationsBecomeBodyPoses) {
+  SYN_REQUIRE_SHARED("c3d/ezc3d/C3DRotationExample.c3d");
+  const std::string path = testing::SharedPath("c3d/ezc3d/C3DRotationExample.c3d");
+  const MarkerData data = ReadC3d(path);
+  ASSERT_EQ(data.frame_count(), 340);
+  ASSERT_EQ(data.bodies.size(), 21u);
+  EXPECT_EQ(data.bodies[1], "pelvis_4X4");
+  // Independent decoding of frame 100, segment 1: block 6, 17 little-endian floats per segment,
+  // column-major 4×4 with the translation in elements 12–14.
+  const std::vector<uint8_t> bytes = ReadFileBytes(path);
+  float raw[17];
+  std::memcpy(raw, &bytes[5 * 512 + (100 * 21 + 1) * 17 * 4], sizeof raw);
+  const double* pose = &data.body_pose[(100 * 21 + 1) * 7];
+  EXPECT_DOUBLE_EQ(pose[0], raw[12]);
+  EXPECT_DOUBLE_EQ(pose[1], raw[13]);
+  EXPECT_DOUBLE_EQ(pose[2], raw[14]);
+  Eigen::Matrix3d rotation;
+  for (int column = 0; column < 3; ++column) {
+    for (int row = 0; row < 3; ++row) rotation(row, column) = raw[column * 4 + row];
+  }
+  const Eigen::Quaterniond expected(rotation);
+  const Eigen::Quaterniond got(pose[3], pose[4], pose[5], pose[6]);
+  EXPECT_LT(got.angularDistance(expected), 1e-6);
 }
 
 }  // namespace
