@@ -508,6 +508,17 @@ MarkerData ParseC3d(const uint8_t* bytes, size_t size, const std::string& source
                            event_times[2 * e] * 60.0 + event_times[2 * e + 1]});
   }
 
+  // Header events (words 150–234), used when the EVENT group is absent: key 12345, count, up to 18
+  // times (float seconds) and 4-character labels.
+  if (data.events.empty() && numbers.uint16(bytes + 298) == 12345) {
+    const size_t header_events = std::min<size_t>(numbers.uint16(bytes + 300), 18);
+    for (size_t e = 0; e < header_events; ++e) {
+      const double time = numbers.float32(bytes + 304 + 4 * e);
+      const std::string label = TrimRight(std::string(reinterpret_cast<const char*>(bytes + 396 + 4 * e), 4));
+      if (std::isfinite(time)) data.events.push_back({label, "header", time});
+    }
+  }
+
   // Facts worth keeping.
   nlohmann::json& meta = data.metadata["c3d"];
   meta["processor"] = numbers.processor == Processor::kIntel ? "intel" : numbers.processor == Processor::kDec ? "dec" : "mips";

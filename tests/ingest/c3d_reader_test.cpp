@@ -164,7 +164,12 @@ TEST(C3dReader, SixProcessorAndStorageVariantsAgree) {
     }
     EXPECT_LE(worst, tolerance);
     ASSERT_EQ(data.analog.size(), reference.analog.size());
+    // The header's event section decodes the same on every processor (3 events at 2.72, 5.40, 7.32 s).
+    ASSERT_EQ(data.events.size(), 3u);
+    for (size_t e = 0; e < 3; ++e) EXPECT_NEAR(data.events[e].time_s, reference.events[e].time_s, 1e-6);
   }
+  ASSERT_EQ(reference.events.size(), 3u);
+  EXPECT_NEAR(reference.events[0].time_s, 2.72, 1e-6);
 }
 
 TEST(C3dReader, EverySharedFileReadsOrIsRefusedWithALocation) {
