@@ -70,7 +70,7 @@ bench: build
 	@for program in $(BIN)/*_benchmark; do echo "== $$(basename $$program)"; $$program --benchmark_counters_tabular=true || exit 1; done
 
 sanitize-test: setup
-	$(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=Debug CMAKE_FLAGS="-DSYN_SANITIZE=ON -DSYN_BENCH=OFF $(CMAKE_FLAGS)"
+	$(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=RelWithDebInfo CMAKE_FLAGS="-DSYN_SANITIZE=ON -DSYN_BENCH=OFF $(CMAKE_FLAGS)"
 
 fuzz-smoke: setup-fuzz
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYN_FUZZ=ON -DSYN_BENCH=OFF
