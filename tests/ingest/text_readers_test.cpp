@@ -87,6 +87,22 @@ TEST(TrcReader, LabelsKeepInnerSpacesAndLoseOuterOnes) {
   EXPECT_EQ(data.labels[3], "genou1_NewMarker3");
 }
 
+TEST(TrcReader, NoMarkersAndCrlf) {
+  const MarkerData with_axis_row = ParseTrc(
+      "PathFileType\t4\t(X/Y/Z)\tz.trc\nDataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\n100\t100\t3\t0\tmm\n"
+      "Frame#\tTime\t\n\t\t\n\n1\t0.00\n2\t0.01\n3\t0.02\n",
+      "z.trc");
+  EXPECT_EQ(with_axis_row.frame_count(), 3);
+  EXPECT_EQ(with_axis_row.marker_count(), 0);
+  const MarkerData crlf = ParseTrc(
+      "PathFileType\t4\t(X/Y/Z)\tz.trc\r\nDataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\r\n100\t100\t2\t1\tm\r\n"
+      "Frame#\tTime\tA\t\t\r\n\t\tX1\tY1\tZ1\r\n1\t0.00\t1\t2\t3\r\n2\t0.01\t4\t5\t6\r\n",
+      "crlf.trc");
+  ASSERT_EQ(crlf.frame_count(), 2);
+  EXPECT_DOUBLE_EQ(crlf.points[5], 6.0);
+  EXPECT_DOUBLE_EQ(crlf.length_unit_to_m, 1.0);
+}
+
 TEST(TrcReader, EFormatAndFractionalRate) {
   SYN_REQUIRE_SHARED("trc/opensim_format_edge_cases/dataWithEformat.trc");
   const MarkerData data = ReadTrc(testing::SharedPath("trc/opensim_format_edge_cases/dataWithEformat.trc"));
