@@ -86,13 +86,31 @@ TEST_F(IncrementalMake, RebuildsOnlyWhatAChangeAffects) {
 }
 
 TEST_F(IncrementalMake, KilledJobLeavesNoFileTakenAsDone) {
+  // A manifest with a robot, so each trial runs ingest and then retarget (about a second).
+  std::ofstream(dir_ + "/tiny.toml") << "name = \"tiny\"\nroot = \"captures\"\n"
+                                     << "model = \"" << SourcePath("datasets/robots/unitree_g1/g1_29dof.urdf") << "\"\n"
+                                     << "robot_map = \"" << SourcePath("manifests/robots/g1.toml") << "\"\n"
+                                     << "markerset = \"" << SourcePath("manifests/markersets/cmu-bvh.toml") << "\"\n"
+                                     << "[[trial]]\nid = \"dance\"\nfile = \"05_02.bvh\"\ndrop_first_frame = true\n";
+  fs::copy_file(SourcePath("datasets/demo/05_02.bvh"), dir_ + "/captures/05_02.bvh");
   ASSERT_EQ(plan().exit_code, 0);
-  // A stage killed mid-write leaves only NAME.tmp-<pid>, never NAME: simulate the leftover.
-  fs::create_directories(dir_ + "/outputs/tiny/trials/walk");
-  std::ofstream(dir_ + "/outputs/tiny/trials/walk/markers.h5.tmp-12345") << "partial";
-  EXPECT_TRUE(pendingOutputs().count("outputs/tiny/trials/walk/markers.h5"));
-  ASSERT_EQ(make("").exit_code, 0);
-  EXPECT_TRUE(fs::exists(dir_ + "/outputs/tiny/trials/walk/markers.h5"));
+  const std::string motion = dir_ + "/outputs/tiny/trials/dance/motion.h5";
+  // Start the run, wait until retarget is working, then SIGKILL the whole process group mid-stage.
+  const CommandResult killed = RunCommand(
+      "cd " + dir_ + " && (setsid make -s -f outputs/tiny/rules.mk SYN_BIN=" + std::string(SYN_BIN_DIR) +
+      " all > run.log 2>&1 & echo $! > make.pid); for i in $(seq 1 200); do pgrep -f 'syn-retarget.*" + dir_ +
+      "' > /dev/null && break; sleep 0.02; done; sleep 0.2; kill -9 -- -$(cat make.pid); sleep 0.3");
+  (void)killed;
+  EXPECT_FALSE(fs::exists(motion)) << "a killed stage left its output behind";
+  // Leftover temporaries (a stage killed while writing) never count as done.
+  std::ofstream(motion + ".tmp-12345") << "partial";
+  EXPECT_TRUE(pendingOutputs().count("outputs/tiny/trials/dance/motion.h5"));
+  const CommandResult resumed = make("");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const CommandResult inspect = RunCommand(BinPath("syn-inspect") + " " + motion);
+  EXPECT_EQ(inspect.exit_code, 0) << inspect.output;
+  EXPECT_NE(inspect.output.find("synsculpt.motion"), std::string::npos);
+  EXPECT_TRUE(pendingOutputs().empty());
 }
 
 TEST_F(IncrementalMake, ManifestMistakesAreLocated) {
