@@ -75,3 +75,23 @@ TEST(RobotMap, MistakesAreReportedAtTheirLine) {
 
 }  // namespace
 }  // namespace syn
+
+#include "common/model.h"
+
+namespace syn {
+namespace {
+
+TEST(RobotMap, Hrp4cNamesExistInThePapersRobot) {
+  SYN_REQUIRE_SHARED("robots/humanoid_synergies/HRP4c_optitrack_model.urdf");
+  const Model model = Model::Load(testing::SharedPath("robots/humanoid_synergies/HRP4c_optitrack_model.urdf"));
+  const RobotMap map = LoadRobotMap(testing::SourcePath("manifests/robots/hrp4c.toml"));
+  EXPECT_EQ(map.tasks.size(), 9u);
+  const auto& names = model.coordinateNames();
+  EXPECT_NO_THROW(CheckRobotMapNames(
+      map, [&](const std::string& link) { return model.findLinkIndex(link) >= 0; },
+      [&](const std::string& joint) { return std::find(names.begin(), names.end(), joint) != names.end(); }, "HRP-4C"));
+  EXPECT_FALSE(model.hasFreeBase());  // its own virtual base chain
+}
+
+}  // namespace
+}  // namespace syn
