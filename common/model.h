@@ -121,6 +121,8 @@ class Workspace {
   void calcMassInverseTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out);
   // Generalized momentum p = A(q) u. Requires setQ and setU.
   void calcMomentum(Eigen::VectorXd& p);
+  // Whole-body momentum about the centre of mass, in ground: (angular, linear). Requires setQ and setU.
+  Eigen::Matrix<double, 6, 1> calcCentroidalMomentum();
   // Kinetic energy ½ uᵀ A u (J). Requires setQ and setU.
   double calcKineticEnergy();
   // tau = A udot + b(q, u) + g(q): the generalized forces that produce udot

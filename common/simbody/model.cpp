@@ -486,6 +486,13 @@ void Workspace::calcMassInverseTimes(const Eigen::VectorXd& v, Eigen::VectorXd& 
 
 void Workspace::calcMomentum(Eigen::VectorXd& p) { calcMassTimes(impl_->u, p); }
 
+Eigen::Matrix<double, 6, 1> Workspace::calcCentroidalMomentum() {
+  const SimTK::SpatialVec momentum = impl_->model.matter.calcSystemCentralMomentum(impl_->state);
+  Eigen::Matrix<double, 6, 1> result;
+  for (int i = 0; i < 3; ++i) result[i] = momentum[0][i], result[3 + i] = momentum[1][i];
+  return result;
+}
+
 double Workspace::calcKineticEnergy() { return impl_->model.matter.calcKineticEnergy(impl_->state); }
 
 void Workspace::calcInverseDynamics(const Eigen::VectorXd& udot, Eigen::VectorXd& tau) {

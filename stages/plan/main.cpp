@@ -6,6 +6,7 @@
 #include "common/cli.h"
 #include "stages/ingest/ingest.h"
 #include "stages/retarget/retarget.h"
+#include "stages/segment/segmentation.h"
 #include "stages/plan/manifest.h"
 #include "stages/plan/rules.h"
 
@@ -19,7 +20,8 @@ syn::StageParameterNames NamesOf(const std::string& stage, const nlohmann::json&
 }
 
 std::vector<syn::StageParameterNames> KnownStages() {
-  return {NamesOf("ingest", syn::IngestOptions{}.ToJson()), NamesOf("retarget", syn::RetargetOptions{}.ToJson())};
+  return {NamesOf("ingest", syn::IngestOptions{}.ToJson()), NamesOf("retarget", syn::RetargetOptions{}.ToJson()),
+          NamesOf("segment", syn::SegmentOptions{}.ToJson())};
 }
 
 }  // namespace

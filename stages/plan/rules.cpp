@@ -103,7 +103,19 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
     retarget.command = "$(SYN_BIN)/syn-retarget " + markers + " -o $@ --model " + MakeEscaped(ShellWord(manifest.model)) +
                        " --robot-map " + MakeEscaped(ShellWord(manifest.robot_map)) + " --markerset " +
                        MakeEscaped(ShellWord(manifest.markerset)) + MakeEscaped(FlagsFor(parameters_of("retarget")));
+    const std::string motion = retarget.output;
     plan.jobs.push_back(std::move(retarget));
+
+    PlannedJob segment;
+    segment.stage = "segment";
+    segment.trial = trial.id;
+    segment.output = trial_dir + "/segments.h5";
+    segment.inputs = {motion, manifest.model};
+    segment.stamp = plan.output_dir + "/params/" + trial.id + ".segment.json";
+    segment.stamp_text = CanonicalJson(parameters_of("segment")) + "\n";
+    segment.command = "$(SYN_BIN)/syn-segment " + motion + " -o $@ --model " + MakeEscaped(ShellWord(manifest.model)) +
+                      MakeEscaped(FlagsFor(parameters_of("segment")));
+    plan.jobs.push_back(std::move(segment));
   }
   return plan;
 }
