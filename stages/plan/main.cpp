@@ -7,6 +7,7 @@
 #include "stages/ingest/ingest.h"
 #include "stages/retarget/retarget.h"
 #include "stages/segment/segmentation.h"
+#include "stages/synergies/synergies.h"
 #include "stages/plan/manifest.h"
 #include "stages/plan/rules.h"
 
@@ -19,9 +20,18 @@ syn::StageParameterNames NamesOf(const std::string& stage, const nlohmann::json&
   return names;
 }
 
+// Labels (subject, trial, style, motion class) come from the trial, not from stage parameters.
+syn::StageParameterNames SynergyParameterNames() {
+  syn::StageParameterNames names = NamesOf("synergies", syn::SynergyOptions{}.ToJson());
+  std::erase_if(names.names, [](const std::string& name) {
+    return name == "subject" || name == "trial" || name == "style" || name == "motion_class";
+  });
+  return names;
+}
+
 std::vector<syn::StageParameterNames> KnownStages() {
   return {NamesOf("ingest", syn::IngestOptions{}.ToJson()), NamesOf("retarget", syn::RetargetOptions{}.ToJson()),
-          NamesOf("segment", syn::SegmentOptions{}.ToJson())};
+          NamesOf("segment", syn::SegmentOptions{}.ToJson()), SynergyParameterNames()};
 }
 
 }  // namespace

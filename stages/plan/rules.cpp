@@ -115,7 +115,24 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
     segment.stamp_text = CanonicalJson(parameters_of("segment")) + "\n";
     segment.command = "$(SYN_BIN)/syn-segment " + motion + " -o $@ --model " + MakeEscaped(ShellWord(manifest.model)) +
                       MakeEscaped(FlagsFor(parameters_of("segment")));
+    const std::string segments = segment.output;
     plan.jobs.push_back(std::move(segment));
+
+    PlannedJob synergies;
+    synergies.stage = "synergies";
+    synergies.trial = trial.id;
+    synergies.output = trial_dir + "/synergies.h5";
+    synergies.inputs = {motion, segments};
+    nlohmann::json synergy_parameters = parameters_of("synergies");
+    synergy_parameters["subject"] = trial.subject;
+    synergy_parameters["trial"] = trial.id;
+    synergy_parameters["style"] = trial.style;
+    synergy_parameters["motion_class"] = trial.motion_class;
+    synergies.stamp = plan.output_dir + "/params/" + trial.id + ".synergies.json";
+    synergies.stamp_text = CanonicalJson(synergy_parameters) + "\n";
+    synergies.command = "$(SYN_BIN)/syn-synergies " + motion + " " + segments + " -o $@" +
+                        MakeEscaped(FlagsFor(synergy_parameters));
+    plan.jobs.push_back(std::move(synergies));
   }
   return plan;
 }
