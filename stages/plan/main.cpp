@@ -31,7 +31,8 @@ syn::StageParameterNames SynergyParameterNames() {
 
 std::vector<syn::StageParameterNames> KnownStages() {
   return {NamesOf("ingest", syn::IngestOptions{}.ToJson()), NamesOf("retarget", syn::RetargetOptions{}.ToJson()),
-          NamesOf("segment", syn::SegmentOptions{}.ToJson()), SynergyParameterNames()};
+          NamesOf("segment", syn::SegmentOptions{}.ToJson()), SynergyParameterNames(),
+          syn::StageParameterNames{"library", {"components"}}};
 }
 
 }  // namespace

@@ -157,6 +157,10 @@ class ManifestParser {
       if (!ids.insert(trial.id).second) fail(trial.line, "duplicate trial id '" + trial.id + "'");
       if (trial.file.empty()) fail(trial.line, "trial '" + trial.id + "' needs a 'file'");
       if (trial.style.empty()) trial.style = trial.motion_class.empty() ? "default" : trial.motion_class;
+      const bool style_ok = std::all_of(trial.style.begin(), trial.style.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+      });
+      if (!style_ok) fail(trial.line, "style '" + trial.style + "' may hold only letters, digits, '_', '-' and '.' (it names a file)");
       manifest.trials.push_back(std::move(trial));
     }
     return manifest;

@@ -1,6 +1,7 @@
 #include "stages/plan/rules.h"
 
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 
@@ -74,6 +75,12 @@ std::string FlagsFor(const nlohmann::json& parameters) {
 Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
   Plan plan;
   plan.output_dir = outputs_root + "/" + manifest.name;
+  std::map<std::string, std::vector<std::string>> synergies_by_style;
+  // Archive-wide stages take the manifest's defaults (any trial's copy of them; overrides are per trial).
+  const auto parameters_of_manifest = [&](const std::string& stage) {
+    const auto found = manifest.trials.front().parameters.find(stage);
+    return found == manifest.trials.front().parameters.end() ? nlohmann::json::object() : found->second;
+  };
   for (const ManifestTrial& trial : manifest.trials) {
     const std::string trial_dir = plan.output_dir + "/trials/" + trial.id;
     const auto parameters_of = [&](const std::string& stage) {
@@ -132,7 +139,23 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
     synergies.stamp_text = CanonicalJson(synergy_parameters) + "\n";
     synergies.command = "$(SYN_BIN)/syn-synergies " + motion + " " + segments + " -o $@" +
                         MakeEscaped(FlagsFor(synergy_parameters));
+    synergies_by_style[trial.style].push_back(synergies.output);
     plan.jobs.push_back(std::move(synergies));
+  }
+  // One library per style, rebuilt when any of its trials' synergies change.
+  for (const auto& [style, files] : synergies_by_style) {
+    PlannedJob library;
+    library.stage = "library";
+    library.trial = style;
+    library.output = plan.output_dir + "/library/" + style + ".h5";
+    library.inputs = files;
+    library.stamp = plan.output_dir + "/params/library." + style + ".json";
+    library.stamp_text = CanonicalJson(parameters_of_manifest("library")) + "\n";
+    std::string command = "$(SYN_BIN)/syn-library";
+    for (const std::string& file : files) command += " " + file;
+    library.command = command + " -o $@ --style " + MakeEscaped(ShellWord(style)) +
+                      MakeEscaped(FlagsFor(parameters_of_manifest("library")));
+    plan.jobs.push_back(std::move(library));
   }
   return plan;
 }

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <Eigen/QR>
 #include <cmath>
 #include <filesystem>
 #include <random>
