@@ -5,15 +5,11 @@
 #include <Eigen/SVD>
 
 #include "common/error.h"
+#include "common/row_major.h"
 
 namespace syn {
 namespace {
 
-std::vector<double> RowMajor(const Eigen::MatrixXd& matrix) {
-  std::vector<double> values(static_cast<size_t>(matrix.size()));
-  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(values.data(), matrix.rows(), matrix.cols()) = matrix;
-  return values;
-}
 
 std::vector<double> ToVector(const Eigen::VectorXd& vector) { return {vector.data(), vector.data() + vector.size()}; }
 
@@ -103,7 +99,7 @@ void WriteLibrary(IntermediateWriter& writer, const SynergyLibrary& library) {
     styles.push_back(style);
     const std::string group = "styles/" + style;
     writer.writeDoubles(group + "/components", {basis.components.rows(), basis.components.cols()},
-                        RowMajor(basis.components).data());
+                        RowMajorValues(basis.components).data());
     writer.writeDoubles(group + "/singular_values", ToVector(basis.singular_values));
     writer.writeDoubles(group + "/explained_variance_ratio", ToVector(basis.explained_variance_ratio));
     writer.writeStrings(group + "/trials", basis.trials);

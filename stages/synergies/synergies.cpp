@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include "common/error.h"
+#include "common/row_major.h"
 
 namespace syn {
 
@@ -75,18 +76,7 @@ std::string GroupName(size_t segment) {
   return name;
 }
 
-// Eigen is column-major; files are row-major.
-std::vector<double> RowMajor(const Eigen::MatrixXd& matrix) {
-  std::vector<double> values(static_cast<size_t>(matrix.size()));
-  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(values.data(), matrix.rows(), matrix.cols()) = matrix;
-  return values;
-}
 
-Eigen::MatrixXd FromRowMajor(const DoubleArray& array) {
-  const Eigen::Index rows = array.dims.empty() ? 0 : array.dims[0];
-  const Eigen::Index cols = array.dims.size() > 1 ? array.dims[1] : 1;
-  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(array.values.data(), rows, cols);
-}
 
 }  // namespace
 
@@ -103,12 +93,12 @@ void WriteTrialSynergies(IntermediateWriter& writer, const TrialSynergies& syner
     const int64_t k = pca.components.rows(), nv = pca.components.cols(), ts = segment.velocities.rows();
     writer.writeDoubles(group + "/q0", segment.q0);
     writer.writeDoubles(group + "/mean_u", std::vector<double>(pca.mean.data(), pca.mean.data() + nv));
-    writer.writeDoubles(group + "/components", {k, nv}, RowMajor(pca.components).data());
+    writer.writeDoubles(group + "/components", {k, nv}, RowMajorValues(pca.components).data());
     writer.writeDoubles(group + "/singular_values", std::vector<double>(pca.singular_values.data(), pca.singular_values.data() + k));
     writer.writeDoubles(group + "/explained_variance_ratio",
                         std::vector<double>(pca.explained_variance_ratio.data(), pca.explained_variance_ratio.data() + k));
-    writer.writeDoubles(group + "/scores", {ts, k}, RowMajor(pca.scores).data());
-    writer.writeDoubles(group + "/velocities", {ts, nv}, RowMajor(segment.velocities).data());
+    writer.writeDoubles(group + "/scores", {ts, k}, RowMajorValues(pca.scores).data());
+    writer.writeDoubles(group + "/velocities", {ts, nv}, RowMajorValues(segment.velocities).data());
     writer.writeAttribute(group, "duration", segment.duration);
     writer.writeAttribute(group, "start_frame", segment.start_frame);
     writer.writeAttribute(group, "end_frame", segment.end_frame);
@@ -133,13 +123,13 @@ TrialSynergies ReadTrialSynergies(const std::string& path, SynergyOptions* label
     segment.q0 = reader.readDoubles(group + "/q0").values;
     const std::vector<double> mean = reader.readDoubles(group + "/mean_u").values;
     segment.synergies.mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), static_cast<Eigen::Index>(mean.size()));
-    segment.synergies.components = FromRowMajor(reader.readDoubles(group + "/components"));
+    segment.synergies.components = MatrixFromRowMajor(reader.readDoubles(group + "/components"));
     const std::vector<double> sigma = reader.readDoubles(group + "/singular_values").values;
     segment.synergies.singular_values = Eigen::Map<const Eigen::VectorXd>(sigma.data(), static_cast<Eigen::Index>(sigma.size()));
     const std::vector<double> ratio = reader.readDoubles(group + "/explained_variance_ratio").values;
     segment.synergies.explained_variance_ratio = Eigen::Map<const Eigen::VectorXd>(ratio.data(), static_cast<Eigen::Index>(ratio.size()));
-    segment.synergies.scores = FromRowMajor(reader.readDoubles(group + "/scores"));
-    segment.velocities = FromRowMajor(reader.readDoubles(group + "/velocities"));
+    segment.synergies.scores = MatrixFromRowMajor(reader.readDoubles(group + "/scores"));
+    segment.velocities = MatrixFromRowMajor(reader.readDoubles(group + "/velocities"));
     segment.duration = reader.readDoubleAttribute(group, "duration");
     segment.start_frame = reader.readIntAttribute(group, "start_frame");
     segment.end_frame = reader.readIntAttribute(group, "end_frame");
