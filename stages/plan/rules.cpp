@@ -142,6 +142,25 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
     synergies_by_style[trial.style].push_back(synergies.output);
     plan.jobs.push_back(std::move(synergies));
   }
+  // Summary tables over every trial.
+  std::vector<std::string> all_synergies;
+  for (const ManifestTrial& trial : manifest.trials) {
+    if (!manifest.model.empty()) all_synergies.push_back(plan.output_dir + "/trials/" + trial.id + "/synergies.h5");
+  }
+  for (const char* table : {"trials", "segments"}) {
+    if (all_synergies.empty()) break;
+    PlannedJob summary;
+    summary.stage = "summary";
+    summary.trial = table;
+    summary.output = plan.output_dir + "/summary/" + table + ".csv";
+    summary.inputs = all_synergies;
+    summary.stamp = plan.output_dir + "/params/summary." + table + ".json";
+    summary.stamp_text = "{}\n";
+    std::string command = "$(SYN_BIN)/syn-summary";
+    for (const std::string& file : all_synergies) command += " " + file;
+    summary.command = command + " --table " + table + " -o $@";
+    plan.jobs.push_back(std::move(summary));
+  }
   // One library per style, rebuilt when any of its trials' synergies change.
   for (const auto& [style, files] : synergies_by_style) {
     PlannedJob library;

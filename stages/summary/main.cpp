@@ -1,0 +1,21 @@
+// syn-summary SYNERGIES... --table trials|segments -o TABLE.csv
+#include <iostream>
+
+#include "common/cli.h"
+#include "stages/summary/summary_tables.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Write an archive summary table as CSV: one row per trial (segments, durations, variance explained "
+               "by the kept synergies) or one row per segment (frames, duration, PC1-PC3 variance ratios).",
+               "syn-summary"};
+  syn::CommonFlags common;
+  syn::AddCommonFlags(app, common);
+  std::vector<std::string> inputs;
+  std::string table = "trials";
+  app.add_option("INPUT", inputs, "Synergies files, in row order")->required();
+  app.add_option("--table", table, "trials | segments")->capture_default_str()->check(CLI::IsMember({"trials", "segments"}));
+  return syn::RunTool(app, argc, argv, [&] {
+    syn::WriteSummaryTable(inputs, table, common.output);
+    std::cerr << "syn-summary: " << inputs.size() << " trials -> " << common.output << "\n";
+  });
+}

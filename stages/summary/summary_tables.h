@@ -1,0 +1,15 @@
+// The archive's summary tables: one CSV row per trial and one per segment,
+// from the trials' synergies files (which carry the manifest's labels).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace syn {
+
+// Writes the table ("trials" or "segments") to `output` (temporary name, then
+// renamed). Rows follow the order of `synergies_files`; numbers use "%.6g",
+// so the same inputs give the same bytes.
+void WriteSummaryTable(const std::vector<std::string>& synergies_files, const std::string& table, const std::string& output);
+
+}  // namespace syn
