@@ -2,6 +2,7 @@
 #
 #   make                  set up (Debian packages), build, run the demo archive (manifests/demo.toml)
 #   make run MANIFEST=manifests/X.toml [DATASET_ROOT=...] -jN   the pipeline on any archive
+#   make release MANIFEST=manifests/X.toml   a deterministic tar of the archive's results
 #   make test             build and run every test (ctest)
 #   make bench            Google Benchmark programs: per-call times and frames per second per stage
 #   make sanitize-test    the test suite on an ASan+UBSan debug build
@@ -24,7 +25,7 @@ DEBIAN_PACKAGES := cmake g++ make libeigen3-dev libsimbody-dev libceres-dev libs
 # Only for `make fuzz-smoke`: libFuzzer ships with clang's runtime.
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 
-.PHONY: all setup setup-fuzz configure build test bench demo run sanitize-test fuzz-smoke clean print-packages
+.PHONY: all setup setup-fuzz configure build test bench demo run release sanitize-test fuzz-smoke clean print-packages
 .DEFAULT_GOAL := all
 
 all: demo
@@ -87,12 +88,36 @@ fuzz-smoke: setup-fuzz
 # outputs/<name>/rules.mk (parameter stamps change only when parameters do); make then runs exactly the
 # jobs whose inputs, parameters or stage binaries changed, in parallel.
 MANIFEST ?= manifests/demo.toml
+OUTPUTS ?= outputs
 MANIFEST_NAME = $(shell sed -n 's/^name *= *"\(.*\)".*/\1/p' $(MANIFEST) | head -n 1)
+MANIFEST_VERSION = $(shell sed -n 's/^version *= *"\(.*\)".*/\1/p' $(MANIFEST) | head -n 1)
 
 run: build
-	@$(BIN)/syn-plan $(MANIFEST) -o outputs/$(MANIFEST_NAME)/rules.mk $(if $(DATASET_ROOT),--dataset-root $(DATASET_ROOT))
-	@$(MAKE) --no-print-directory -j$(JOBS) -f outputs/$(MANIFEST_NAME)/rules.mk SYN_BIN=$(BIN) all
-	@echo "make: $(MANIFEST_NAME): all jobs up to date in outputs/$(MANIFEST_NAME)/"
+	@$(BIN)/syn-plan $(MANIFEST) -o $(OUTPUTS)/$(MANIFEST_NAME)/rules.mk --outputs $(OUTPUTS) $(if $(DATASET_ROOT),--dataset-root $(DATASET_ROOT))
+	@$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/$(MANIFEST_NAME)/rules.mk SYN_BIN=$(BIN) all
+	@echo "make: $(MANIFEST_NAME): all jobs up to date in $(OUTPUTS)/$(MANIFEST_NAME)/"
+
+# ---- reproducible release ------------------------------------------------------------
+# $(OUTPUTS)/NAME/release/NAME-VERSION.tar: the style libraries, per-trial synergies, summaries, the
+# manifest, provenance (tool and dependency versions, every parameter stamp) and SHA256SUMS. The tar is
+# deterministic (sorted names, mtime 0, owner 0), so the same inputs give the same SHA-256.
+TOOL_VERSION := $(shell sed -n 's/^project.synsculpt VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
+RELEASE_DEPENDENCIES := libsimbody-dev libceres-dev libeigen3-dev libhdf5-dev libsuitesparse-dev g++
+
+release: run
+	@out=$(OUTPUTS)/$(MANIFEST_NAME); name=$(MANIFEST_NAME)-$(or $(MANIFEST_VERSION),0.0.0); \
+	stage=$$out/release/$$name; rm -rf $$out/release; mkdir -p $$stage/trials $$stage/params; \
+	cp -r $$out/library $$out/summary $$stage/; rm -f $$stage/library/*.log $$stage/summary/*.log; \
+	for trial in $$out/trials/*/; do id=$$(basename $$trial); mkdir -p $$stage/trials/$$id; \
+	  cp $$trial/synergies.h5 $$stage/trials/$$id/; done; \
+	cp $$out/params/*.json $$stage/params/; cp $(MANIFEST) $$stage/manifest.toml; \
+	{ echo '{'; echo '  "tool": "synsculpt $(TOOL_VERSION)",'; \
+	  echo '  "manifest": "$(MANIFEST)",'; echo '  "dependencies": {'; \
+	  dpkg-query -W -f='    "$${Package}": "$${Version}",\n' $(RELEASE_DEPENDENCIES) 2>/dev/null | sort | sed '$$ s/,$$//'; \
+	  echo '  }'; echo '}'; } > $$stage/provenance.json; \
+	(cd $$stage && find . -type f ! -name SHA256SUMS | LC_ALL=C sort | xargs sha256sum > SHA256SUMS); \
+	tar --sort=name --mtime=@0 --owner=0 --group=0 --numeric-owner --mode=u=rwX,go=rX --format=gnu -C $$out/release -cf $$out/release/$$name.tar $$name; \
+	echo "make: release $$out/release/$$name.tar sha256 $$(sha256sum $$out/release/$$name.tar | cut -d' ' -f1)"
 
 demo:
 	@$(MAKE) --no-print-directory run MANIFEST=manifests/demo.toml
