@@ -137,6 +137,45 @@ TEST_F(IncrementalMake, ManifestMistakesAreLocated) {
 namespace syn::testing {
 namespace {
 
+// Changing a segmentation parameter re-runs segment and what follows, for every trial, but not ingest or retarget.
+TEST(IncrementalChain, SegmentThresholdReRunsSegmentOnward) {
+  namespace fs = std::filesystem;
+  const std::string dir = fs::temp_directory_path() / ("syn_chain_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir + "/captures");
+  fs::copy_file(SourcePath("datasets/demo/14_14_excerpt.bvh"), dir + "/captures/a.bvh");
+  fs::copy_file(SourcePath("datasets/demo/14_14_excerpt.bvh"), dir + "/captures/b.bvh");
+  const auto write_manifest = [&](const std::string& threshold) {
+    std::ofstream(dir + "/chain.toml") << "name = \"chain\"\nroot = \"captures\"\n"
+                                       << "model = \"" << SourcePath("datasets/robots/unitree_g1/g1_29dof.urdf") << "\"\n"
+                                       << "robot_map = \"" << SourcePath("manifests/robots/g1.toml") << "\"\n"
+                                       << "markerset = \"" << SourcePath("manifests/markersets/cmu-bvh.toml") << "\"\n"
+                                       << "[segment]\nthreshold = " << threshold << "\n"
+                                       << "[[trial]]\nid = \"a\"\nfile = \"a.bvh\"\nstyle = \"x\"\n"
+                                       << "[[trial]]\nid = \"b\"\nfile = \"b.bvh\"\nstyle = \"y\"\n";
+  };
+  const std::string plan = "cd " + dir + " && " + BinPath("syn-plan") + " chain.toml -o outputs/chain/rules.mk";
+  const std::string make = "cd " + dir + " && make -s -f outputs/chain/rules.mk SYN_BIN=" + std::string(SYN_BIN_DIR);
+  write_manifest("0.75");
+  ASSERT_EQ(RunCommand(plan).exit_code, 0);
+  ASSERT_EQ(RunCommand(make + " all").exit_code, 0);
+  write_manifest("2.5");
+  ASSERT_EQ(RunCommand(plan).exit_code, 0);
+  const CommandResult dry = RunCommand(make + " -n all");
+  std::set<std::string> stages;
+  std::istringstream lines(dry.output);
+  for (std::string line; std::getline(lines, line);) {
+    for (const char* stage : {"syn-ingest", "syn-retarget", "syn-segment", "syn-synergies", "syn-library", "syn-summary"}) {
+      if (line.find(std::string("/") + stage + " ") != std::string::npos) stages.insert(stage);
+    }
+  }
+  EXPECT_EQ(stages, (std::set<std::string>{"syn-segment", "syn-synergies", "syn-library", "syn-summary"})) << dry.output;
+  EXPECT_EQ(std::count(dry.output.begin(), dry.output.end(), '\n') > 0, true);
+  EXPECT_NE(dry.output.find("trials/a/segments.h5"), std::string::npos);
+  EXPECT_NE(dry.output.find("trials/b/segments.h5"), std::string::npos);
+  fs::remove_all(dir);
+}
+
 // `make release` twice from clean outputs gives the same SHA-256: every stage's bytes are reproducible.
 TEST(Release, TwoCleanBuildsGiveTheSameTar) {
   namespace fs = std::filesystem;
