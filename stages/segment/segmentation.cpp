@@ -51,11 +51,11 @@ Segmentation SegmentMotion(const MotionData& motion, const Model& model, const S
     q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
     u = Eigen::Map<const Eigen::VectorXd>(&motion.u[static_cast<size_t>(t * nu)], nu);
     workspace.setQ(q);
-    workspace.setU(u);
     if (options.momentum == "centroidal") {
+      workspace.setU(u);
       p = workspace.calcCentroidalMomentum();
     } else {
-      workspace.calcMomentum(p);
+      workspace.calcMassTimes(u, p);  // A(q) u needs positions only: no velocity-stage realisation
     }
     std::copy(p.data(), p.data() + width, momentum.begin() + t * width);
   }
