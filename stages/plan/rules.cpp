@@ -72,109 +72,80 @@ std::string FlagsFor(const nlohmann::json& parameters) {
   return flags;
 }
 
+namespace {
+
+// A job running `syn-<stage> ARGUMENTS -o $@ EXTRA FLAGS(parameters)`, whose stamp file holds `parameters`.
+PlannedJob MakeJob(const std::string& output_dir, const std::string& stage, const std::string& name,
+                   const std::string& output, std::vector<std::string> inputs, const std::string& arguments,
+                   const std::string& extra, const nlohmann::json& parameters, const std::string& stamp_name) {
+  PlannedJob job;
+  job.stage = stage;
+  job.trial = name;
+  job.output = output;
+  job.inputs = std::move(inputs);
+  job.stamp = output_dir + "/params/" + stamp_name + ".json";
+  job.stamp_text = CanonicalJson(parameters) + "\n";
+  job.command = "$(SYN_BIN)/syn-" + stage + " " + arguments + " -o $@" + extra + MakeEscaped(FlagsFor(parameters));
+  return job;
+}
+
+std::string Joined(const std::vector<std::string>& words) {
+  std::string text;
+  for (const std::string& word : words) text += (text.empty() ? "" : " ") + word;
+  return text;
+}
+
+}  // namespace
+
 Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
   Plan plan;
-  plan.output_dir = outputs_root + "/" + manifest.name;
+  const std::string& out = plan.output_dir = outputs_root + "/" + manifest.name;
+  const bool has_robot = !manifest.model.empty() && !manifest.robot_map.empty() && !manifest.markerset.empty();
+  const std::string model = MakeEscaped(ShellWord(manifest.model));
   std::map<std::string, std::vector<std::string>> synergies_by_style;
-  // Archive-wide stages take the manifest's defaults (any trial's copy of them; overrides are per trial).
-  const auto parameters_of_manifest = [&](const std::string& stage) {
-    const auto found = manifest.trials.front().parameters.find(stage);
-    return found == manifest.trials.front().parameters.end() ? nlohmann::json::object() : found->second;
-  };
+  std::vector<std::string> all_synergies;
   for (const ManifestTrial& trial : manifest.trials) {
-    const std::string trial_dir = plan.output_dir + "/trials/" + trial.id;
+    const std::string dir = out + "/trials/" + trial.id;
     const auto parameters_of = [&](const std::string& stage) {
       const auto found = trial.parameters.find(stage);
       return found == trial.parameters.end() ? nlohmann::json::object() : found->second;
     };
-    PlannedJob ingest;
-    ingest.stage = "ingest";
-    ingest.trial = trial.id;
-    ingest.output = trial_dir + "/markers.h5";
-    ingest.inputs = {trial.path};
-    ingest.stamp = plan.output_dir + "/params/" + trial.id + ".ingest.json";
-    ingest.stamp_text = CanonicalJson(parameters_of("ingest")) + "\n";
-    ingest.command = "$(SYN_BIN)/syn-ingest " + MakeEscaped(ShellWord(trial.path)) + " -o $@" +
-                     MakeEscaped(FlagsFor(parameters_of("ingest")));
-    const std::string markers = ingest.output;
-    plan.jobs.push_back(std::move(ingest));
-
-    if (manifest.model.empty() || manifest.robot_map.empty() || manifest.markerset.empty()) continue;
-    PlannedJob retarget;
-    retarget.stage = "retarget";
-    retarget.trial = trial.id;
-    retarget.output = trial_dir + "/motion.h5";
-    retarget.inputs = {markers, manifest.model, manifest.robot_map, manifest.markerset};
-    retarget.stamp = plan.output_dir + "/params/" + trial.id + ".retarget.json";
-    retarget.stamp_text = CanonicalJson(parameters_of("retarget")) + "\n";
-    retarget.command = "$(SYN_BIN)/syn-retarget " + markers + " -o $@ --model " + MakeEscaped(ShellWord(manifest.model)) +
-                       " --robot-map " + MakeEscaped(ShellWord(manifest.robot_map)) + " --markerset " +
-                       MakeEscaped(ShellWord(manifest.markerset)) + MakeEscaped(FlagsFor(parameters_of("retarget")));
-    const std::string motion = retarget.output;
-    plan.jobs.push_back(std::move(retarget));
-
-    PlannedJob segment;
-    segment.stage = "segment";
-    segment.trial = trial.id;
-    segment.output = trial_dir + "/segments.h5";
-    segment.inputs = {motion, manifest.model};
-    segment.stamp = plan.output_dir + "/params/" + trial.id + ".segment.json";
-    segment.stamp_text = CanonicalJson(parameters_of("segment")) + "\n";
-    segment.command = "$(SYN_BIN)/syn-segment " + motion + " -o $@ --model " + MakeEscaped(ShellWord(manifest.model)) +
-                      MakeEscaped(FlagsFor(parameters_of("segment")));
-    const std::string segments = segment.output;
-    plan.jobs.push_back(std::move(segment));
-
-    PlannedJob synergies;
-    synergies.stage = "synergies";
-    synergies.trial = trial.id;
-    synergies.output = trial_dir + "/synergies.h5";
-    synergies.inputs = {motion, segments};
+    const std::string markers = dir + "/markers.h5", motion = dir + "/motion.h5";
+    const std::string segments = dir + "/segments.h5", synergies = dir + "/synergies.h5";
+    plan.jobs.push_back(MakeJob(out, "ingest", trial.id, markers, {trial.path}, MakeEscaped(ShellWord(trial.path)), "",
+                                parameters_of("ingest"), trial.id + ".ingest"));
+    if (!has_robot) continue;
+    plan.jobs.push_back(MakeJob(out, "retarget", trial.id, motion,
+                                {markers, manifest.model, manifest.robot_map, manifest.markerset}, markers,
+                                " --model " + model + " --robot-map " + MakeEscaped(ShellWord(manifest.robot_map)) +
+                                    " --markerset " + MakeEscaped(ShellWord(manifest.markerset)),
+                                parameters_of("retarget"), trial.id + ".retarget"));
+    plan.jobs.push_back(MakeJob(out, "segment", trial.id, segments, {motion, manifest.model}, motion, " --model " + model,
+                                parameters_of("segment"), trial.id + ".segment"));
+    // The trial's labels travel with its synergies into the libraries and summaries.
     nlohmann::json synergy_parameters = parameters_of("synergies");
     synergy_parameters["subject"] = trial.subject;
     synergy_parameters["trial"] = trial.id;
     synergy_parameters["style"] = trial.style;
     synergy_parameters["motion_class"] = trial.motion_class;
-    synergies.stamp = plan.output_dir + "/params/" + trial.id + ".synergies.json";
-    synergies.stamp_text = CanonicalJson(synergy_parameters) + "\n";
-    synergies.command = "$(SYN_BIN)/syn-synergies " + motion + " " + segments + " -o $@" +
-                        MakeEscaped(FlagsFor(synergy_parameters));
-    synergies_by_style[trial.style].push_back(synergies.output);
-    plan.jobs.push_back(std::move(synergies));
+    plan.jobs.push_back(MakeJob(out, "synergies", trial.id, synergies, {motion, segments}, motion + " " + segments, "",
+                                synergy_parameters, trial.id + ".synergies"));
+    synergies_by_style[trial.style].push_back(synergies);
+    all_synergies.push_back(synergies);
   }
-  // Summary tables over every trial.
-  std::vector<std::string> all_synergies;
-  for (const ManifestTrial& trial : manifest.trials) {
-    if (!manifest.model.empty()) all_synergies.push_back(plan.output_dir + "/trials/" + trial.id + "/synergies.h5");
-  }
-  for (const char* table : {"trials", "segments"}) {
-    if (all_synergies.empty()) break;
-    PlannedJob summary;
-    summary.stage = "summary";
-    summary.trial = table;
-    summary.output = plan.output_dir + "/summary/" + table + ".csv";
-    summary.inputs = all_synergies;
-    summary.stamp = plan.output_dir + "/params/summary." + table + ".json";
-    summary.stamp_text = "{}\n";
-    std::string command = "$(SYN_BIN)/syn-summary";
-    for (const std::string& file : all_synergies) command += " " + file;
-    summary.command = command + " --table " + table + " -o $@";
-    plan.jobs.push_back(std::move(summary));
-  }
+  if (all_synergies.empty()) return plan;
+  // Archive-wide stages take the manifest's defaults (every trial carries a copy; overrides are per trial).
+  const auto found = manifest.trials.front().parameters.find("library");
+  const nlohmann::json library_parameters =
+      found == manifest.trials.front().parameters.end() ? nlohmann::json::object() : found->second;
   // One library per style, rebuilt when any of its trials' synergies change.
   for (const auto& [style, files] : synergies_by_style) {
-    PlannedJob library;
-    library.stage = "library";
-    library.trial = style;
-    library.output = plan.output_dir + "/library/" + style + ".h5";
-    library.inputs = files;
-    library.stamp = plan.output_dir + "/params/library." + style + ".json";
-    library.stamp_text = CanonicalJson(parameters_of_manifest("library")) + "\n";
-    std::string command = "$(SYN_BIN)/syn-library";
-    for (const std::string& file : files) command += " " + file;
-    library.command = command + " -o $@ --style " + MakeEscaped(ShellWord(style)) +
-                      MakeEscaped(FlagsFor(parameters_of_manifest("library")));
-    plan.jobs.push_back(std::move(library));
+    plan.jobs.push_back(MakeJob(out, "library", style, out + "/library/" + style + ".h5", files, Joined(files),
+                                " --style " + MakeEscaped(ShellWord(style)), library_parameters, "library." + style));
+  }
+  for (const std::string table : {"trials", "segments"}) {
+    plan.jobs.push_back(MakeJob(out, "summary", table, out + "/summary/" + table + ".csv", all_synergies,
+                                Joined(all_synergies), " --table " + table, nlohmann::json::object(), "summary." + table));
   }
   return plan;
 }
