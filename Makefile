@@ -5,7 +5,7 @@
 #   make release MANIFEST=manifests/X.toml   a deterministic tar of the archive's results
 #   make test             build and run every test (ctest)
 #   make bench            Google Benchmark programs: per-call times and frames per second per stage
-#   make sanitize-test    the test suite on an ASan+UBSan debug build
+#   make sanitize-test    the test suite on an ASan+UBSan build (-O1 -g)
 #   make fuzz-smoke       each format reader's libFuzzer target for FUZZ_SECONDS (clang)
 #
 # Variables: BUILD_DIR (build), BUILD_TYPE (Release), JOBS (nproc), CMAKE_FLAGS.
@@ -71,7 +71,7 @@ bench: build
 	@for program in $(BIN)/*_benchmark; do echo "== $$(basename $$program)"; $$program --benchmark_counters_tabular=true || exit 1; done
 
 sanitize-test: setup
-	$(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=RelWithDebInfo CMAKE_FLAGS="-DSYN_SANITIZE=ON -DSYN_BENCH=OFF $(CMAKE_FLAGS)"
+	$(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=Debug CMAKE_FLAGS="-DSYN_SANITIZE=ON -DSYN_BENCH=OFF $(CMAKE_FLAGS)"
 
 fuzz-smoke: setup-fuzz
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYN_FUZZ=ON -DSYN_BENCH=OFF
