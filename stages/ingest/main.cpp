@@ -30,8 +30,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--strip-prefix", options.strip_prefix, "Remove subject prefixes such as 'Male:' from labels");
   app.add_option("--bvh-scale", options.bvh_scale,
-                 "Metres per BVH unit, or auto (CMU cgspeed conversions: 0.056444; see --help of the BVH notes "
-                 "in README)")
+                 "Metres per BVH unit, or auto: from the rest-pose height (10-50 units: CMU's ASF unit 0.056444 m; "
+                 "50-100: inches; 100-250: centimetres; 1-2.5: metres)")
       ->capture_default_str();
   app.add_flag("--drop-first-frame", options.drop_first_frame,
                "Drop BVH frame 0 (the T-pose frame CMU BVH converters add)");
