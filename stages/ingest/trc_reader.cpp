@@ -66,6 +66,18 @@ MarkerData ParseTrc(std::string_view text, const std::string& source_name) {
   if (!(data.rate_hz > 0)) throw DataError(Location::AtLine(source_name, 3), "DataRate must be a positive rate in Hz");
   const double declared_frames = number_of("NumFrames", -1);
   const double declared_markers = number_of("NumMarkers", -1);
+  // Counts are checked before anything is sized from them: a marker needs at least three characters in
+  // some row, so more markers than a third of the file's bytes cannot be real.
+  const double most_markers = static_cast<double>(text.size()) / 3.0;
+  for (const auto& [key, value] : {std::pair{"NumFrames", declared_frames}, std::pair{"NumMarkers", declared_markers}}) {
+    if (value != -1 && (value < 0 || value != std::floor(value) || value > 1e9)) {
+      throw DataError(Location::AtLine(source_name, 3), std::string(key) + " must be a whole number of a plausible size");
+    }
+  }
+  if (declared_markers > most_markers) {
+    throw DataError(Location::AtLine(source_name, 3), "NumMarkers " + std::to_string(static_cast<int64_t>(declared_markers)) +
+                                                          " is more than the file could hold");
+  }
   const std::string units = header.count("Units") ? header["Units"] : "mm";
   data.length_unit_to_m = UnitToMetres(units);
   if (data.length_unit_to_m == 0.0) throw DataError(Location::AtLine(source_name, 3), "Units '" + units + "': expected mm, cm or m");
@@ -106,9 +118,12 @@ MarkerData ParseTrc(std::string_view text, const std::string& source_name) {
   if (pending && Trim(line).find("X1") != std::string_view::npos) pending = false;
   if (pending && markers == 0 && Trim(line).empty()) pending = false;
 
-  if (declared_frames > 0 && declared_frames < 1e8) {
-    data.time_s.reserve(static_cast<size_t>(declared_frames));
-    data.points.reserve(static_cast<size_t>(declared_frames) * markers * 3);
+  // Reserve what the header promises, but never more than the text could hold (a row needs two bytes per field).
+  const size_t frames_possible = text.size() / (2 * (markers * 3 + 2));
+  if (declared_frames > 0) {
+    const size_t frames = std::min(static_cast<size_t>(declared_frames), frames_possible);
+    data.time_s.reserve(frames);
+    data.points.reserve(frames * markers * 3);
   }
   while (pending || lines.next(&line)) {
     pending = false;

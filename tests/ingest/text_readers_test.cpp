@@ -268,6 +268,10 @@ TEST(FuzzRegressions, EachEndsInADataError) {
     if (entry.path().extension() == ".npy") {
       EXPECT_THROW((void)HumanMl3dJointsToMarkerData(ParseNpy(bytes.data(), bytes.size(), "r.npy"), "r.npy"), DataError);
     }
+    if (entry.path().extension() == ".trc") {
+      EXPECT_THROW((void)ParseTrc(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), "r.trc"),
+                   DataError);
+    }
   }
   EXPECT_GE(count, 1);
 }
