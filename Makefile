@@ -98,7 +98,7 @@ run: build
 	@echo "make: $(MANIFEST_NAME): all jobs up to date in $(OUTPUTS)/$(MANIFEST_NAME)/"
 
 # ---- reproducible release ------------------------------------------------------------
-# $(OUTPUTS)/NAME/release/NAME-VERSION.tar: the style libraries, per-trial synergies, summaries, the
+# $(OUTPUTS)/NAME/release/NAME-VERSION.tar: the style libraries, per-trial synergies and metrics, summaries, the
 # manifest, provenance (tool and dependency versions, every parameter stamp) and SHA256SUMS. The tar is
 # deterministic (sorted names, mtime 0, owner 0), so the same inputs give the same SHA-256.
 TOOL_VERSION := $(shell sed -n 's/^project.synsculpt VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
@@ -109,7 +109,7 @@ release: run
 	stage=$$out/release/$$name; rm -rf $$out/release; mkdir -p $$stage/trials $$stage/params; \
 	cp -r $$out/library $$out/summary $$stage/; rm -f $$stage/library/*.log $$stage/summary/*.log; \
 	for trial in $$out/trials/*/; do id=$$(basename $$trial); mkdir -p $$stage/trials/$$id; \
-	  cp $$trial/synergies.h5 $$stage/trials/$$id/; done; \
+	  cp $$trial/synergies.h5 $$trial/metrics.json $$stage/trials/$$id/; done; \
 	cp $$out/params/*.json $$stage/params/; cp $(MANIFEST) $$stage/manifest.toml; \
 	{ echo '{'; echo '  "tool": "synsculpt $(TOOL_VERSION)",'; \
 	  echo '  "manifest": "$(MANIFEST)",'; echo '  "dependencies": {'; \

@@ -3,7 +3,11 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+
+#include <unistd.h>
 
 #include "common/error.h"
 
@@ -31,5 +35,24 @@ Buffer ReadAll(const std::string& path) {
 
 std::vector<uint8_t> ReadFileBytes(const std::string& path) { return ReadAll<std::vector<uint8_t>>(path); }
 std::string ReadFileText(const std::string& path) { return ReadAll<std::string>(path); }
+
+void WriteFileAtomically(const std::string& path, const std::string& text) {
+  const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::remove(temporary.c_str());
+      throw DataError(Location::InFile(path), "cannot write " + temporary);
+    }
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::remove(temporary.c_str());
+    throw DataError(Location::InFile(path), "cannot rename " + temporary + ": " + error.message());
+  }
+}
 
 }  // namespace syn

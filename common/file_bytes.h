@@ -15,4 +15,8 @@ namespace syn {
 // Same, as text (bytes unchanged, no newline translation).
 [[nodiscard]] std::string ReadFileText(const std::string& path);
 
+// Writes `text` to a temporary name beside `path` and renames it, so a reader
+// (or make, after a kill) never sees a half-written file. Throws DataError.
+void WriteFileAtomically(const std::string& path, const std::string& text);
+
 }  // namespace syn

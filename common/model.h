@@ -63,6 +63,10 @@ class Model {
   int nu() const;
   double totalMass() const;  // kg, every link of the URDF
   double gravity() const;
+  // [nu]: false for velocities no motor drives — a free base's six, or a virtual free base (three prismatic
+  // and three revolute joints through massless links from a massless root, e.g. HRP-4C's
+  // floating_base_p1..r3). Mechanical power sums the rest.
+  const std::vector<bool>& actuatedVelocities() const;
 
   const std::vector<std::string>& coordinateNames() const;  // [nq]
   const std::vector<std::string>& velocityNames() const;    // [nu]

@@ -1,6 +1,7 @@
 #include "common/motion_file.h"
 
 #include "common/error.h"
+#include "common/model.h"
 
 namespace syn {
 
@@ -51,6 +52,17 @@ MotionData ReadMotionFile(const std::string& path) {
   motion.model_sha256 = reader.readStringAttribute("", "model_sha256");
   motion.total_mass = reader.readDoubleAttribute("", "total_mass");
   return motion;
+}
+
+void CheckMotionMatchesModel(const MotionData& motion, const Model& model) {
+  if (!motion.model_sha256.empty() && motion.model_sha256 != model.sourceSha256()) {
+    throw DataError(Location::InFile(model.sourcePath()),
+                    "this URDF is not the model the motion was made with (" + motion.model_name + ", SHA-256 " +
+                        motion.model_sha256.substr(0, 12) + "...)");
+  }
+  if (motion.nq() != model.nq() || motion.nu() != model.nu()) {
+    throw DataError(Location::InFile(model.sourcePath()), "the motion's coordinates do not match the model's");
+  }
 }
 
 }  // namespace syn

@@ -48,4 +48,9 @@ void WriteMotionData(IntermediateWriter& writer, const MotionData& motion);
 // Reads a motion file, checking schema, version and array shapes.
 [[nodiscard]] MotionData ReadMotionFile(const std::string& path);
 
+class Model;
+// Throws DataError naming the URDF when the motion was made with another model (SHA-256) or its
+// coordinates differ from the model's.
+void CheckMotionMatchesModel(const MotionData& motion, const Model& model);
+
 }  // namespace syn

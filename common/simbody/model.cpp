@@ -81,6 +81,7 @@ struct Model::Impl {
   std::vector<std::string> warnings;
   std::vector<ModelJoint> joints;
   Eigen::VectorXd q_lower, q_upper, u_limit;
+  std::vector<bool> actuated;  // [nu]
 
   // How each mobilized body moves, for the analytic frame Jacobian: a joint
   // axis through the body origin (the child link frame coincides with the
@@ -285,6 +286,34 @@ Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
     }
     impl->joints.push_back(entry);
   }
+  // Unactuated velocities: a free base's six, or a virtual base chain's — walked from the massless root
+  // through massless links (HRP-4C: p1..p3, r1..r3 end at the massive hip_base).
+  impl->actuated.assign(static_cast<size_t>(impl->nu), true);
+  if (base == FloatingBase::kFree) {
+    const int u0 = impl->matter.getMobilizedBody(mobilized[0]).getFirstUIndex(state);
+    for (int i = 0; i < 6; ++i) impl->actuated[static_cast<size_t>(u0 + i)] = false;
+  } else {
+    // A free base emulated by a chain of massless links: exactly three prismatic and three revolute joints.
+    std::vector<int> chain;
+    int prismatic = 0, link = urdf.root_link;
+    while (urdf.links[static_cast<size_t>(link)].inertial.mass < 1e-6) {
+      int moving_child = -1, moving_count = 0;
+      for (int j : child_joints[static_cast<size_t>(link)]) {
+        if (urdf.joints[static_cast<size_t>(j)].type != UrdfJointType::kFixed) {
+          moving_child = j;
+          ++moving_count;
+        }
+      }
+      if (moving_count != 1) break;
+      const UrdfJoint& joint = urdf.joints[static_cast<size_t>(moving_child)];
+      prismatic += joint.type == UrdfJointType::kPrismatic;
+      chain.push_back(impl->matter.getMobilizedBody(mobilized[body_of_joint[moving_child]]).getFirstUIndex(state));
+      link = urdf.findLink(joint.child);
+    }
+    if (chain.size() == 6 && prismatic == 3) {
+      for (int u : chain) impl->actuated[static_cast<size_t>(u)] = false;
+    }
+  }
   return Model(impl);
 }
 
@@ -296,6 +325,7 @@ bool Model::hasFreeBase() const { return impl_->floating_base == FloatingBase::k
 int Model::nq() const { return impl_->nq; }
 int Model::nu() const { return impl_->nu; }
 double Model::totalMass() const { return impl_->total_mass; }
+const std::vector<bool>& Model::actuatedVelocities() const { return impl_->actuated; }
 double Model::gravity() const { return impl_->gravity; }
 const std::vector<std::string>& Model::coordinateNames() const { return impl_->coordinate_names; }
 const std::vector<std::string>& Model::velocityNames() const { return impl_->velocity_names; }

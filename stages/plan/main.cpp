@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "common/cli.h"
+#include "stages/evaluate/evaluate.h"
 #include "stages/ingest/ingest.h"
 #include "stages/retarget/retarget.h"
 #include "stages/segment/segmentation.h"
@@ -32,6 +33,7 @@ syn::StageParameterNames SynergyParameterNames() {
 std::vector<syn::StageParameterNames> KnownStages() {
   return {NamesOf("ingest", syn::IngestOptions{}.ToJson()), NamesOf("retarget", syn::RetargetOptions{}.ToJson()),
           NamesOf("segment", syn::SegmentOptions{}.ToJson()), SynergyParameterNames(),
+          NamesOf("evaluate", syn::EvaluateOptions{}.ToJson()),
           syn::StageParameterNames{"library", {"components"}}};
 }
 

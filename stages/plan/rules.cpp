@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/file_bytes.h"
 #include "common/intermediate_file.h"
 #include "common/version.h"
 
@@ -46,13 +47,7 @@ bool WriteIfChanged(const std::string& path, const std::string& text) {
     }
   }
   std::filesystem::create_directories(std::filesystem::path(path).parent_path());
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    out << text;
-    if (!out) throw DataError(Location::InFile(path), "cannot write");
-  }
-  std::filesystem::rename(temporary, path);
+  WriteFileAtomically(path, text);
   return true;
 }
 
@@ -130,6 +125,11 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
     synergy_parameters["motion_class"] = trial.motion_class;
     plan.jobs.push_back(MakeJob(out, "synergies", trial.id, synergies, {motion, segments}, motion + " " + segments, "",
                                 synergy_parameters, trial.id + ".synergies"));
+    plan.jobs.push_back(MakeJob(out, "evaluate", trial.id, dir + "/metrics.json",
+                                {motion, synergies, manifest.model, manifest.robot_map},
+                                motion + " --synergies " + synergies,
+                                " --model " + model + " --robot-map " + MakeEscaped(ShellWord(manifest.robot_map)),
+                                parameters_of("evaluate"), trial.id + ".evaluate"));
     synergies_by_style[trial.style].push_back(synergies);
     all_synergies.push_back(synergies);
   }

@@ -29,14 +29,7 @@ nlohmann::json SegmentOptions::ToJson() const {
 }
 
 Segmentation SegmentMotion(const MotionData& motion, const Model& model, const SegmentOptions& options) {
-  if (!motion.model_sha256.empty() && motion.model_sha256 != model.sourceSha256()) {
-    throw DataError(Location::InFile(model.sourcePath()),
-                    "this URDF is not the model the motion was made with (" + motion.model_name + ", SHA-256 " +
-                        motion.model_sha256.substr(0, 12) + "...)");
-  }
-  if (motion.nq() != model.nq() || motion.nu() != model.nu()) {
-    throw DataError(Location::InFile(model.sourcePath()), "the motion's coordinates do not match the model's");
-  }
+  CheckMotionMatchesModel(motion, model);
   const int64_t frames = motion.frames();
   const int64_t nq = motion.nq(), nu = motion.nu();
   Segmentation result;

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "common/error.h"
+#include "common/file_bytes.h"
 #include "stages/synergies/synergies.h"
 
 namespace syn {
@@ -72,13 +73,7 @@ void WriteSummaryTable(const std::vector<std::string>& synergies_files, const st
            << (k90.empty() ? std::string() : std::to_string(k90[k90.size() / 2])) << '\n';
     }
   }
-  const std::string temporary = output + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    out << text.str();
-    if (!out) throw DataError(Location::InFile(output), "cannot write");
-  }
-  std::filesystem::rename(temporary, output);
+  WriteFileAtomically(output, text.str());
 }
 
 }  // namespace syn

@@ -151,6 +151,7 @@ TEST(IncrementalChain, SegmentThresholdReRunsSegmentOnward) {
                                        << "robot_map = \"" << SourcePath("manifests/robots/g1.toml") << "\"\n"
                                        << "markerset = \"" << SourcePath("manifests/markersets/cmu-bvh.toml") << "\"\n"
                                        << "[segment]\nthreshold = " << threshold << "\n"
+                                       << "[evaluate]\nsamples = 5\n"
                                        << "[[trial]]\nid = \"a\"\nfile = \"a.bvh\"\nstyle = \"x\"\n"
                                        << "[[trial]]\nid = \"b\"\nfile = \"b.bvh\"\nstyle = \"y\"\n";
   };
@@ -165,11 +166,13 @@ TEST(IncrementalChain, SegmentThresholdReRunsSegmentOnward) {
   std::set<std::string> stages;
   std::istringstream lines(dry.output);
   for (std::string line; std::getline(lines, line);) {
-    for (const char* stage : {"syn-ingest", "syn-retarget", "syn-segment", "syn-synergies", "syn-library", "syn-summary"}) {
+    for (const char* stage : {"syn-ingest", "syn-retarget", "syn-segment", "syn-synergies", "syn-evaluate",
+                              "syn-library", "syn-summary"}) {
       if (line.find(std::string("/") + stage + " ") != std::string::npos) stages.insert(stage);
     }
   }
-  EXPECT_EQ(stages, (std::set<std::string>{"syn-segment", "syn-synergies", "syn-library", "syn-summary"})) << dry.output;
+  EXPECT_EQ(stages, (std::set<std::string>{"syn-segment", "syn-synergies", "syn-evaluate", "syn-library", "syn-summary"}))
+      << dry.output;
   EXPECT_EQ(std::count(dry.output.begin(), dry.output.end(), '\n') > 0, true);
   EXPECT_NE(dry.output.find("trials/a/segments.h5"), std::string::npos);
   EXPECT_NE(dry.output.find("trials/b/segments.h5"), std::string::npos);
@@ -188,6 +191,7 @@ TEST(Release, TwoCleanBuildsGiveTheSameTar) {
                                     << "model = \"datasets/robots/unitree_g1/g1_29dof.urdf\"\n"
                                     << "robot_map = \"manifests/robots/g1.toml\"\n"
                                     << "markerset = \"manifests/markersets/cmu-bvh.toml\"\n"
+                                    << "[evaluate]\nsamples = 5\n"
                                     << "[[trial]]\nid = \"jacks\"\nfile = \"14_14_excerpt.bvh\"\nmotion_class = \"jumping_jacks\"\n"
                                     << "[[trial]]\nid = \"walk\"\nfile = \"02_01.bvh\"\nmotion_class = \"walk\"\ndrop_first_frame = true\n";
   const std::string build_dir = fs::path(SYN_BIN_DIR).parent_path().string();
@@ -206,6 +210,7 @@ TEST(Release, TwoCleanBuildsGiveTheSameTar) {
     const CommandResult listing = RunCommand("tar tf " + tar);
     EXPECT_NE(listing.output.find("tiny-1.2.3/library/jumping_jacks.h5"), std::string::npos) << listing.output;
     EXPECT_NE(listing.output.find("tiny-1.2.3/trials/walk/synergies.h5"), std::string::npos);
+    EXPECT_NE(listing.output.find("tiny-1.2.3/trials/walk/metrics.json"), std::string::npos);
     EXPECT_NE(listing.output.find("tiny-1.2.3/summary/segments.csv"), std::string::npos);
     EXPECT_NE(listing.output.find("tiny-1.2.3/SHA256SUMS"), std::string::npos);
     EXPECT_NE(listing.output.find("tiny-1.2.3/provenance.json"), std::string::npos);

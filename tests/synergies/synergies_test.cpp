@@ -6,13 +6,11 @@
 #include <filesystem>
 #include <random>
 
-#include "common/markers_file.h"
 #include "common/model.h"
-#include "stages/ingest/ingest.h"
-#include "stages/retarget/retarget.h"
 #include "stages/segment/segmentation.h"
 #include "stages/synergies/segment_pca.h"
 #include "stages/synergies/synergies.h"
+#include "tests/support/demo_motion.h"
 #include "tests/support/shared_data.h"
 
 namespace syn {
@@ -51,25 +49,9 @@ class RealSegments : public ::testing::Test {
  protected:
   // One demo trial through ingest, retarget and segmentation, as the pipeline runs it.
   static void SetUpTestSuite() {
-    const std::string dir = std::filesystem::temp_directory_path() / ("syn_synergies_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    IngestOptions ingest;
-    ingest.drop_first_frame = true;
-    const MarkerData capture = IngestCapture(testing::SourcePath("datasets/demo/05_02.bvh"), ingest, nullptr);
-    const std::string markers = dir + "/trial.markers.h5";
-    {
-      IntermediateWriter writer(markers, {kMarkersSchema, kMarkersSchemaVersion, "test", {}, nlohmann::json::array()});
-      WriteMarkerData(writer, capture);
-      writer.commit();
-    }
-    RetargetOptions retarget;
-    retarget.model = testing::SourcePath("datasets/robots/unitree_g1/g1_29dof.urdf");
-    retarget.robot_map = testing::SourcePath("manifests/robots/g1.toml");
-    retarget.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
-    motion_ = new MotionData(Retarget(markers, retarget, nullptr));
-    const Model model = Model::Load(retarget.model);
+    motion_ = new MotionData(testing::DemoMotionOnG1("05_02"));
+    const Model model = Model::Load(testing::SourcePath(testing::kG1Urdf));
     boundaries_ = new std::vector<int64_t>(SegmentMotion(*motion_, model, {}).boundaries);
-    std::filesystem::remove_all(dir);
   }
   static void TearDownTestSuite() {
     delete motion_;

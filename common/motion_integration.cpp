@@ -1,0 +1,81 @@
+#include "common/motion_integration.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+namespace syn {
+
+double BaseYaw(const double* quaternion_wxyz) {
+  const Eigen::Quaterniond rotation(quaternion_wxyz[0], quaternion_wxyz[1], quaternion_wxyz[2], quaternion_wxyz[3]);
+  const Eigen::Matrix3d matrix = rotation.normalized().toRotationMatrix();
+  return std::atan2(matrix(1, 0), matrix(0, 0));
+}
+
+void RotateBaseVelocities(double yaw, double* u) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  for (int block = 0; block < 2; ++block) {
+    double* v = u + 3 * block;
+    const double x = v[0], y = v[1];
+    v[0] = c * x - s * y;
+    v[1] = s * x + c * y;
+  }
+}
+
+void StepConfiguration(bool free_base, const double* q0, const double* v0, const double* v1, double dt, int nq,
+                       double* q1) {
+  int q_joint = 0, u_joint = 0;
+  if (free_base) {
+    const Eigen::Vector3d omega = 0.5 * dt * (Eigen::Vector3d(v0[0], v0[1], v0[2]) + Eigen::Vector3d(v1[0], v1[1], v1[2]));
+    const double angle = omega.norm();
+    const Eigen::Quaterniond turn =
+        angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega / angle)) : Eigen::Quaterniond::Identity();
+    const Eigen::Quaterniond next = (turn * Eigen::Quaterniond(q0[0], q0[1], q0[2], q0[3])).normalized();
+    q1[0] = next.w();
+    q1[1] = next.x();
+    q1[2] = next.y();
+    q1[3] = next.z();
+    for (int i = 0; i < 3; ++i) q1[4 + i] = q0[4 + i] + 0.5 * dt * (v0[3 + i] + v1[3 + i]);
+    q_joint = 7;
+    u_joint = 6;
+  }
+  for (int i = 0; q_joint + i < nq; ++i) q1[q_joint + i] = q0[q_joint + i] + 0.5 * dt * (v0[u_joint + i] + v1[u_joint + i]);
+}
+
+void IntegrateVelocities(bool free_base, const Eigen::VectorXd& q0, const Eigen::VectorXd& times,
+                         const Eigen::MatrixXd& velocities, BaseVelocityFrame frame, Eigen::MatrixXd& q,
+                         Eigen::MatrixXd& ground_velocities) {
+  const Eigen::Index frames = velocities.rows(), nu = velocities.cols(), nq = q0.size();
+  if (times.size() != frames || frames < 1 || nq != nu + (free_base ? 1 : 0)) {
+    throw std::invalid_argument("IntegrateVelocities: q0, times and velocities disagree in size");
+  }
+  // Row-major copies so that each frame is contiguous for StepConfiguration.
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> q_rows(frames, nq), v_rows = velocities;
+  q_rows.row(0) = q0.transpose();
+  const bool turn = free_base && frame == BaseVelocityFrame::kHeading;
+  if (turn) RotateBaseVelocities(BaseYaw(q_rows.row(0).data()), v_rows.row(0).data());
+  Eigen::VectorXd predicted(nq), heading_sample(nu);
+  for (Eigen::Index t = 1; t < frames; ++t) {
+    const double dt = times[t] - times[t - 1];
+    double* v1 = v_rows.row(t).data();
+    if (turn) {
+      // Predict the pose with the previous velocity, turn the new sample with the predicted yaw, then correct.
+      heading_sample = v_rows.row(t).transpose();
+      StepConfiguration(true, q_rows.row(t - 1).data(), v_rows.row(t - 1).data(), v_rows.row(t - 1).data(), dt,
+                        static_cast<int>(nq), predicted.data());
+      RotateBaseVelocities(BaseYaw(predicted.data()), v1);
+      Eigen::Map<Eigen::VectorXd> corrected(v1, nu);
+      StepConfiguration(true, q_rows.row(t - 1).data(), v_rows.row(t - 1).data(), v1, dt, static_cast<int>(nq),
+                        predicted.data());
+      corrected = heading_sample;
+      RotateBaseVelocities(BaseYaw(predicted.data()), v1);
+    }
+    StepConfiguration(free_base, q_rows.row(t - 1).data(), v_rows.row(t - 1).data(), v1, dt, static_cast<int>(nq),
+                      q_rows.row(t).data());
+  }
+  q = q_rows;
+  ground_velocities = v_rows;
+}
+
+}  // namespace syn

@@ -1,0 +1,115 @@
+#include "stages/evaluate/synergy_monte_carlo.h"
+
+#include <cmath>
+
+#include "common/motion_integration.h"
+#include "common/row_major.h"
+
+namespace syn {
+namespace {
+
+// splitmix64 (Steele, Lea, Flood 2014): tiny, well mixed, and specified bit for bit.
+class SplitMix64 {
+ public:
+  explicit SplitMix64(uint64_t seed) : state_(seed) {}
+  uint64_t next() {
+    uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  // Uniform in [0, 1) from the top 53 bits.
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+
+ private:
+  uint64_t state_;
+};
+
+struct Spread {
+  double mean = RangeMetrics::kNone, std = RangeMetrics::kNone;
+};
+
+Spread SpreadOf(const std::vector<RangeMetrics>& samples, double RangeMetrics::*field) {
+  Spread spread;
+  std::vector<double> values;
+  for (const RangeMetrics& sample : samples) {
+    if (std::isfinite(sample.*field)) values.push_back(sample.*field);
+  }
+  if (values.empty()) return spread;
+  double sum = 0;
+  for (double value : values) sum += value;
+  spread.mean = sum / static_cast<double>(values.size());
+  double squares = 0;
+  for (double value : values) squares += (value - spread.mean) * (value - spread.mean);
+  spread.std = values.size() > 1 ? std::sqrt(squares / static_cast<double>(values.size() - 1)) : 0.0;
+  return spread;
+}
+
+nlohmann::json Number(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
+
+double RelativeChange(double value, double reference) {
+  return (std::isfinite(value) && std::isfinite(reference) && reference != 0) ? value / reference - 1.0
+                                                                              : RangeMetrics::kNone;
+}
+
+}  // namespace
+
+RangeMetrics EvaluateReconstruction(MotionEvaluator& evaluator, const Eigen::VectorXd& q0,
+                                    const std::vector<double>& times, const Eigen::MatrixXd& velocities,
+                                    bool heading_frame, double grid_origin, bool all_metrics) {
+  const bool free_base = evaluator.model().hasFreeBase();
+  Eigen::MatrixXd q, ground_velocities;
+  IntegrateVelocities(free_base, q0, Eigen::Map<const Eigen::VectorXd>(times.data(), static_cast<Eigen::Index>(times.size())),
+                      velocities, heading_frame ? BaseVelocityFrame::kHeading : BaseVelocityFrame::kGround, q,
+                      ground_velocities);
+  RangeMetrics whole;
+  (void)evaluator.evaluate(times, RowMajorValues(q), RowMajorValues(ground_velocities), {}, grid_origin, &whole, all_metrics);
+  return whole;
+}
+
+MonteCarloSummary RunSegmentMonteCarlo(MotionEvaluator& evaluator, const TrialSynergies::Segment& segment,
+                                       const std::vector<double>& times, bool heading_frame, double grid_origin,
+                                       int64_t segment_index, const MonteCarloOptions& options) {
+  const SegmentSynergies& pca = segment.synergies;
+  const Eigen::VectorXd q0 = Eigen::Map<const Eigen::VectorXd>(segment.q0.data(), static_cast<Eigen::Index>(segment.q0.size()));
+  MonteCarloSummary summary;
+  summary.components = static_cast<int>(pca.components.rows());
+  summary.original = EvaluateReconstruction(evaluator, q0, times, segment.velocities, heading_frame, grid_origin, true);
+  summary.rank_k = EvaluateReconstruction(evaluator, q0, times, ReconstructVelocities(pca, pca.singular_values),
+                                          heading_frame, grid_origin, true);
+  SplitMix64 random(options.seed * 0x9e3779b97f4a7c15ULL + static_cast<uint64_t>(segment_index));
+  Eigen::VectorXd coefficients(pca.singular_values.size());
+  for (int n = 0; n < options.samples; ++n) {
+    for (Eigen::Index i = 0; i < coefficients.size(); ++i) {
+      const double delta = options.alpha * (2.0 * random.uniform() - 1.0);
+      coefficients[i] = pca.singular_values[i] * (1.0 + delta);
+    }
+    summary.samples.push_back(EvaluateReconstruction(evaluator, q0, times, ReconstructVelocities(pca, coefficients),
+                                                     heading_frame, grid_origin, false));
+  }
+  return summary;
+}
+
+nlohmann::json MonteCarloSummary::ToJson() const {
+  nlohmann::json result;
+  result["components"] = components;
+  result["samples"] = samples.size();
+  result["original"] = original.ToJson();
+  result["rank_k"] = rank_k.ToJson();
+  nlohmann::json spread;
+  const std::pair<const char*, double RangeMetrics::*> fields[] = {
+      {"mean_delta_p", &RangeMetrics::mean_delta_p},
+      {"mean_delta_ke", &RangeMetrics::mean_delta_ke},
+      {"mean_kinetic_energy", &RangeMetrics::mean_kinetic_energy}};
+  for (const auto& [name, field] : fields) {
+    const Spread value = SpreadOf(samples, field);
+    spread[name] = {{"mean", Number(value.mean)},
+                    {"std", Number(value.std)},
+                    {"relative_change", Number(RelativeChange(value.mean, original.*field))},
+                    {"rank_k_relative_change", Number(RelativeChange(rank_k.*field, original.*field))}};
+  }
+  result["perturbed"] = spread;
+  return result;
+}
+
+}  // namespace syn
