@@ -107,7 +107,7 @@ RELEASE_DEPENDENCIES := libsimbody-dev libceres-dev libeigen3-dev libhdf5-dev li
 release: run
 	@out=$(OUTPUTS)/$(MANIFEST_NAME); name=$(MANIFEST_NAME)-$(or $(MANIFEST_VERSION),0.0.0); \
 	stage=$$out/release/$$name; rm -rf $$out/release; mkdir -p $$stage/trials $$stage/params; \
-	cp -r $$out/library $$out/summary $$stage/; rm -f $$stage/library/*.log $$stage/summary/*.log; \
+	cp -r $$out/library $$out/library.h5 $$out/summary $$stage/; rm -f $$stage/library/*.log $$stage/summary/*.log; \
 	for trial in $$out/trials/*/; do id=$$(basename $$trial); mkdir -p $$stage/trials/$$id; \
 	  cp $$trial/synergies.h5 $$trial/metrics.json $$stage/trials/$$id/; done; \
 	cp $$out/params/*.json $$stage/params/; cp $(MANIFEST) $$stage/manifest.toml; \

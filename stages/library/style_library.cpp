@@ -1,5 +1,6 @@
 #include "stages/library/style_library.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/SVD>
@@ -9,7 +10,6 @@
 
 namespace syn {
 namespace {
-
 
 std::vector<double> ToVector(const Eigen::VectorXd& vector) { return {vector.data(), vector.data() + vector.size()}; }
 
@@ -28,6 +28,15 @@ SynergyLibrary BuildLibrary(const std::vector<LabelledTrial>& trials, const std:
                                                         "'s: every trial of a library must use the same robot and --velocities");
     }
     by_style[trials[i].labels.style].push_back(i);
+    std::string name = trials[i].labels.trial.empty() ? sources[i] : trials[i].labels.trial;
+    std::replace(name.begin(), name.end(), '/', '_');
+    if (library.trials.count(name)) {
+      throw DataError(Location::InFile(sources[i]), "trial '" + name + "' appears twice in one library");
+    }
+    LabelledTrial& stored = library.trials[name];
+    stored.labels = trials[i].labels;
+    stored.synergies.velocity_names = trials[i].synergies.velocity_names;
+    stored.synergies.segments = trials[i].synergies.segments;
     for (const auto& segment : trials[i].synergies.segments) {
       Eigen::Vector3d ratios = Eigen::Vector3d::Zero();
       const Eigen::VectorXd& r = segment.synergies.explained_variance_ratio;
@@ -115,6 +124,71 @@ void WriteLibrary(IntermediateWriter& writer, const SynergyLibrary& library) {
   }
   writer.writeStrings("style_names", styles);
   writer.writeStrings("class_names", classes);
+  std::vector<std::string> trial_names;
+  for (const auto& [name, trial] : library.trials) {
+    if (trial.synergies.segments.empty()) continue;  // HDF5 groups exist once something is written in them
+    trial_names.push_back(name);
+    const std::string group = "trials/" + name;
+    for (size_t s = 0; s < trial.synergies.segments.size(); ++s) {
+      WriteSynergySegment(writer, group + "/" + SegmentGroupName(s), trial.synergies.segments[s], false);
+    }
+    for (const char* key : {"subject", "trial", "style", "motion_class"}) {
+      writer.writeAttribute(group, key, trial.labels.ToJson()[key].get<std::string>());
+    }
+    writer.writeAttribute(group, "segment_count", static_cast<int64_t>(trial.synergies.segments.size()));
+  }
+  writer.writeStrings("trial_names", trial_names);
 }
+
+LibraryReader::LibraryReader(const std::string& path) : reader_(path, kLibrarySchema, kLibrarySchemaVersion) {
+  velocity_names_ = reader_.readStrings("velocity_names");
+  if (!reader_.has("trial_names")) return;
+  for (const std::string& trial : reader_.readStrings("trial_names")) {
+    const std::string group = "trials/" + trial;
+    const std::string style = reader_.readStringAttribute(group, "style");
+    const int64_t count = reader_.readIntAttribute(group, "segment_count");
+    for (int64_t s = 0; s < count; ++s) names_.push_back(style + "/" + trial + "/" + std::to_string(s));
+  }
+  std::sort(names_.begin(), names_.end());
+}
+
+bool LibraryReader::has(const std::string& name) const {
+  return std::binary_search(names_.begin(), names_.end(), name);
+}
+
+LibrarySynergy LibraryReader::read(const std::string& name) const {
+  if (!has(name)) {
+    std::string known;
+    for (size_t i = 0; i < names_.size() && i < 40; ++i) known += (i ? ", " : "") + names_[i];
+    if (names_.size() > 40) known += ", ...";
+    throw DataError(Location::InFile(path()), "no synergy '" + name + "' (expected STYLE/TRIAL/SEGMENT; the library "
+                                              "holds: " + (known.empty() ? std::string("none") : known) + ")");
+  }
+  const size_t first = name.find('/'), last = name.rfind('/');
+  LibrarySynergy result;
+  result.style = name.substr(0, first);
+  result.trial = name.substr(first + 1, last - first - 1);
+  result.index = std::stoll(name.substr(last + 1));
+  const std::string group = "trials/" + result.trial;
+  result.labels.subject = reader_.readStringAttribute(group, "subject");
+  result.labels.trial = reader_.readStringAttribute(group, "trial");
+  result.labels.style = reader_.readStringAttribute(group, "style");
+  result.labels.motion_class = reader_.readStringAttribute(group, "motion_class");
+  result.velocity_names = velocity_names_;
+  result.segment = ReadSynergySegment(reader_, group + "/" + SegmentGroupName(static_cast<size_t>(result.index)));
+  return result;
+}
+
+Eigen::MatrixXd LibraryReader::styleBasis(const std::string& style) const {
+  const std::string name = "styles/" + style + "/components";
+  if (!reader_.has(name)) {
+    std::string known;
+    for (const std::string& s : styleNames()) known += (known.empty() ? "" : ", ") + s;
+    throw DataError(Location::InFile(path()), "no style '" + style + "' (the library holds: " + known + ")");
+  }
+  return MatrixFromRowMajor(reader_.readDoubles(name));
+}
+
+std::vector<std::string> LibraryReader::styleNames() const { return reader_.readStrings("style_names"); }
 
 }  // namespace syn

@@ -30,15 +30,18 @@ struct ClassSpread {
   int64_t segments = 0;
 };
 
+struct LabelledTrial {
+  SynergyOptions labels;
+  TrialSynergies synergies;
+};
+
 struct SynergyLibrary {
   std::vector<std::string> velocity_names;
   std::map<std::string, StyleBasis> styles;
   std::map<std::string, ClassSpread> classes;
-};
-
-struct LabelledTrial {
-  SynergyOptions labels;
-  TrialSynergies synergies;
+  // Every segment's synergies by trial name, so that syn-compose can script them (stored without the
+  // velocity samples).
+  std::map<std::string, LabelledTrial> trials;
 };
 
 // Throws DataError (naming `sources[i]`) when trials disagree on velocity names.
@@ -46,5 +49,36 @@ struct LabelledTrial {
                                           int components);
 
 void WriteLibrary(IntermediateWriter& writer, const SynergyLibrary& library);
+
+inline constexpr const char* kLibrarySchema = "synsculpt.library";
+inline constexpr int64_t kLibrarySchemaVersion = 1;
+
+// One segment's synergies from a library file, by "STYLE/TRIAL/SEGMENT" (e.g. "salsa/60_10/2").
+struct LibrarySynergy {
+  std::string style, trial;
+  int64_t index = 0;
+  SynergyOptions labels;
+  std::vector<std::string> velocity_names;
+  TrialSynergies::Segment segment;
+};
+
+class LibraryReader {
+ public:
+  explicit LibraryReader(const std::string& path);
+  const std::string& path() const { return reader_.path(); }
+  const std::vector<std::string>& velocityNames() const { return velocity_names_; }
+  // Every "STYLE/TRIAL/SEGMENT" the library holds, sorted.
+  const std::vector<std::string>& synergyNames() const { return names_; }
+  bool has(const std::string& name) const;
+  // Throws DataError listing what the library holds when `name` is absent or malformed.
+  [[nodiscard]] LibrarySynergy read(const std::string& name) const;
+  // The shared basis of a style, [k, nv] orthonormal rows (Sᵀ).
+  [[nodiscard]] Eigen::MatrixXd styleBasis(const std::string& style) const;
+  [[nodiscard]] std::vector<std::string> styleNames() const;
+
+ private:
+  IntermediateReader reader_;
+  std::vector<std::string> velocity_names_, names_;
+};
 
 }  // namespace syn

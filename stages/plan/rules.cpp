@@ -143,6 +143,9 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
     plan.jobs.push_back(MakeJob(out, "library", style, out + "/library/" + style + ".h5", files, Joined(files),
                                 " --style " + MakeEscaped(ShellWord(style)), library_parameters, "library." + style));
   }
+  // Every style in one file: what compose scripts that mix styles read.
+  plan.jobs.push_back(MakeJob(out, "library", "all-styles", out + "/library.h5", all_synergies, Joined(all_synergies),
+                              "", library_parameters, "library"));
   for (const std::string table : {"trials", "segments"}) {
     plan.jobs.push_back(MakeJob(out, "summary", table, out + "/summary/" + table + ".csv", all_synergies,
                                 Joined(all_synergies), " --table " + table, nlohmann::json::object(), "summary." + table));

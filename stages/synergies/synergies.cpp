@@ -61,6 +61,9 @@ TrialSynergies ComputeTrialSynergies(const MotionData& motion, const std::vector
     segment.end_frame = end;
     segment.duration = motion.time_s[static_cast<size_t>(end - 1)] - motion.time_s[static_cast<size_t>(start)];
     segment.q0.assign(motion.q.begin() + start * motion.nq(), motion.q.begin() + (start + 1) * motion.nq());
+    for (int64_t t = start; t < end; ++t) {
+      segment.times.push_back(motion.time_s[static_cast<size_t>(t)] - motion.time_s[static_cast<size_t>(start)]);
+    }
     segment.velocities = SegmentVelocities(motion, free_base, start, end, options.velocities);
     segment.synergies = ComputeSegmentSynergies(segment.velocities, options.components);
     result.segments.push_back(std::move(segment));
@@ -68,17 +71,62 @@ TrialSynergies ComputeTrialSynergies(const MotionData& motion, const std::vector
   return result;
 }
 
-namespace {
-
-std::string GroupName(size_t segment) {
+std::string SegmentGroupName(size_t segment) {
   char name[32];
   std::snprintf(name, sizeof name, "segments/%03zu", segment);
   return name;
 }
 
+void WriteSynergySegment(IntermediateWriter& writer, const std::string& group, const TrialSynergies::Segment& segment,
+                         bool with_samples) {
+  const SegmentSynergies& pca = segment.synergies;
+  const int64_t k = pca.components.rows(), nv = pca.components.cols(), ts = pca.scores.rows();
+  writer.writeDoubles(group + "/q0", segment.q0);
+  writer.writeDoubles(group + "/times", segment.times);
+  writer.writeDoubles(group + "/mean_u", std::vector<double>(pca.mean.data(), pca.mean.data() + nv));
+  writer.writeDoubles(group + "/components", {k, nv}, RowMajorValues(pca.components).data());
+  writer.writeDoubles(group + "/singular_values", std::vector<double>(pca.singular_values.data(), pca.singular_values.data() + k));
+  writer.writeDoubles(group + "/explained_variance_ratio",
+                      std::vector<double>(pca.explained_variance_ratio.data(), pca.explained_variance_ratio.data() + k));
+  writer.writeDoubles(group + "/scores", {ts, k}, RowMajorValues(pca.scores).data());
+  if (with_samples) writer.writeDoubles(group + "/velocities", {ts, nv}, RowMajorValues(segment.velocities).data());
+  writer.writeAttribute(group, "duration", segment.duration);
+  writer.writeAttribute(group, "start_frame", segment.start_frame);
+  writer.writeAttribute(group, "end_frame", segment.end_frame);
+  writer.writeAttribute(group, "components_for_90_percent", static_cast<int64_t>(pca.components_for_90_percent));
+}
 
-
-}  // namespace
+TrialSynergies::Segment ReadSynergySegment(const IntermediateReader& reader, const std::string& group) {
+  auto vector = [](const std::vector<double>& values) {
+    return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size())));
+  };
+  TrialSynergies::Segment segment;
+  segment.q0 = reader.readDoubles(group + "/q0").values;
+  segment.synergies.mean = vector(reader.readDoubles(group + "/mean_u").values);
+  segment.synergies.components = MatrixFromRowMajor(reader.readDoubles(group + "/components"));
+  segment.synergies.singular_values = vector(reader.readDoubles(group + "/singular_values").values);
+  segment.synergies.explained_variance_ratio = vector(reader.readDoubles(group + "/explained_variance_ratio").values);
+  segment.synergies.scores = MatrixFromRowMajor(reader.readDoubles(group + "/scores"));
+  if (reader.has(group + "/velocities")) segment.velocities = MatrixFromRowMajor(reader.readDoubles(group + "/velocities"));
+  segment.duration = reader.readDoubleAttribute(group, "duration");
+  segment.start_frame = reader.readIntAttribute(group, "start_frame");
+  segment.end_frame = reader.readIntAttribute(group, "end_frame");
+  segment.synergies.components_for_90_percent = static_cast<int>(reader.readIntAttribute(group, "components_for_90_percent"));
+  if (reader.has(group + "/times")) {
+    segment.times = reader.readDoubles(group + "/times").values;
+  } else {  // files from before 0.1.0 stored no times: their frames were uniform
+    const Eigen::Index samples = segment.synergies.scores.rows();
+    const Eigen::VectorXd uniform = Eigen::VectorXd::LinSpaced(samples, 0.0, segment.duration);
+    segment.times.assign(uniform.data(), uniform.data() + samples);
+  }
+  if (static_cast<int64_t>(segment.times.size()) != segment.synergies.scores.rows() ||
+      segment.synergies.components.cols() != segment.synergies.mean.size() ||
+      segment.synergies.scores.cols() != segment.synergies.components.rows() ||
+      segment.synergies.singular_values.size() != segment.synergies.components.rows()) {
+    throw DataError(Location::InFile(reader.path()), group + ": times, scores, components and singular values disagree in size");
+  }
+  return segment;
+}
 
 void WriteTrialSynergies(IntermediateWriter& writer, const TrialSynergies& synergies, const SynergyOptions& options) {
   writer.writeStrings("velocity_names", synergies.velocity_names);
@@ -87,22 +135,7 @@ void WriteTrialSynergies(IntermediateWriter& writer, const TrialSynergies& syner
   }
   writer.writeAttribute("", "segment_count", static_cast<int64_t>(synergies.segments.size()));
   for (size_t s = 0; s < synergies.segments.size(); ++s) {
-    const TrialSynergies::Segment& segment = synergies.segments[s];
-    const SegmentSynergies& pca = segment.synergies;
-    const std::string group = GroupName(s);
-    const int64_t k = pca.components.rows(), nv = pca.components.cols(), ts = segment.velocities.rows();
-    writer.writeDoubles(group + "/q0", segment.q0);
-    writer.writeDoubles(group + "/mean_u", std::vector<double>(pca.mean.data(), pca.mean.data() + nv));
-    writer.writeDoubles(group + "/components", {k, nv}, RowMajorValues(pca.components).data());
-    writer.writeDoubles(group + "/singular_values", std::vector<double>(pca.singular_values.data(), pca.singular_values.data() + k));
-    writer.writeDoubles(group + "/explained_variance_ratio",
-                        std::vector<double>(pca.explained_variance_ratio.data(), pca.explained_variance_ratio.data() + k));
-    writer.writeDoubles(group + "/scores", {ts, k}, RowMajorValues(pca.scores).data());
-    writer.writeDoubles(group + "/velocities", {ts, nv}, RowMajorValues(segment.velocities).data());
-    writer.writeAttribute(group, "duration", segment.duration);
-    writer.writeAttribute(group, "start_frame", segment.start_frame);
-    writer.writeAttribute(group, "end_frame", segment.end_frame);
-    writer.writeAttribute(group, "components_for_90_percent", static_cast<int64_t>(pca.components_for_90_percent));
+    WriteSynergySegment(writer, SegmentGroupName(s), synergies.segments[s], true);
   }
 }
 
@@ -117,25 +150,7 @@ TrialSynergies ReadTrialSynergies(const std::string& path, SynergyOptions* label
     labels->motion_class = reader.readStringAttribute("", "motion_class");
   }
   const int64_t count = reader.readIntAttribute("", "segment_count");
-  for (int64_t s = 0; s < count; ++s) {
-    const std::string group = GroupName(static_cast<size_t>(s));
-    TrialSynergies::Segment segment;
-    segment.q0 = reader.readDoubles(group + "/q0").values;
-    const std::vector<double> mean = reader.readDoubles(group + "/mean_u").values;
-    segment.synergies.mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), static_cast<Eigen::Index>(mean.size()));
-    segment.synergies.components = MatrixFromRowMajor(reader.readDoubles(group + "/components"));
-    const std::vector<double> sigma = reader.readDoubles(group + "/singular_values").values;
-    segment.synergies.singular_values = Eigen::Map<const Eigen::VectorXd>(sigma.data(), static_cast<Eigen::Index>(sigma.size()));
-    const std::vector<double> ratio = reader.readDoubles(group + "/explained_variance_ratio").values;
-    segment.synergies.explained_variance_ratio = Eigen::Map<const Eigen::VectorXd>(ratio.data(), static_cast<Eigen::Index>(ratio.size()));
-    segment.synergies.scores = MatrixFromRowMajor(reader.readDoubles(group + "/scores"));
-    segment.velocities = MatrixFromRowMajor(reader.readDoubles(group + "/velocities"));
-    segment.duration = reader.readDoubleAttribute(group, "duration");
-    segment.start_frame = reader.readIntAttribute(group, "start_frame");
-    segment.end_frame = reader.readIntAttribute(group, "end_frame");
-    segment.synergies.components_for_90_percent = static_cast<int>(reader.readIntAttribute(group, "components_for_90_percent"));
-    result.segments.push_back(std::move(segment));
-  }
+  for (int64_t s = 0; s < count; ++s) result.segments.push_back(ReadSynergySegment(reader, SegmentGroupName(static_cast<size_t>(s))));
   return result;
 }
 

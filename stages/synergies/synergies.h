@@ -31,6 +31,7 @@ struct TrialSynergies {
     int64_t start_frame = 0, end_frame = 0;  // [start, end)
     double duration = 0.0;
     std::vector<double> q0;
+    std::vector<double> times;   // [Ts] s from the segment's first frame (the scores' sample instants)
     Eigen::MatrixXd velocities;  // [Ts, nv] the samples the PCA saw
     SegmentSynergies synergies;
   };
@@ -45,6 +46,13 @@ struct TrialSynergies {
                                                    const SynergyOptions& options);
 
 void WriteTrialSynergies(IntermediateWriter& writer, const TrialSynergies& synergies, const SynergyOptions& options);
+
+// One segment's group ("segments/007"), as synergies files and libraries store it; `with_samples` adds
+// the velocity samples the PCA saw (libraries leave them out).
+[[nodiscard]] std::string SegmentGroupName(size_t segment);
+void WriteSynergySegment(IntermediateWriter& writer, const std::string& group, const TrialSynergies::Segment& segment,
+                         bool with_samples);
+[[nodiscard]] TrialSynergies::Segment ReadSynergySegment(const IntermediateReader& reader, const std::string& group);
 [[nodiscard]] TrialSynergies ReadTrialSynergies(const std::string& path, SynergyOptions* labels);
 
 }  // namespace syn
