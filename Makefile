@@ -3,6 +3,8 @@
 #   make                  set up (Debian packages), build, run the demo archive (manifests/demo.toml)
 #   make run MANIFEST=manifests/X.toml [DATASET_ROOT=...] -jN   the pipeline on any archive
 #   make release MANIFEST=manifests/X.toml   a deterministic tar of the archive's results
+#   make compose SCRIPT=manifests/scripts/X.toml [LIBRARY=outputs/demo/library.h5]   a scripted motion,
+#                         evaluated and exported (outputs/compose/X.*)
 #   make test             build and run every test (ctest)
 #   make bench            Google Benchmark programs: per-call times and frames per second per stage
 #   make sanitize-test    the test suite on an ASan+UBSan build (-O1 -g)
@@ -25,7 +27,7 @@ DEBIAN_PACKAGES := cmake g++ make libeigen3-dev libsimbody-dev libceres-dev libs
 # Only for `make fuzz-smoke`: libFuzzer ships with clang's runtime.
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 
-.PHONY: all setup setup-fuzz configure build test bench demo run release sanitize-test fuzz-smoke clean print-packages
+.PHONY: all setup setup-fuzz configure build test bench demo run release compose sanitize-test fuzz-smoke clean print-packages
 .DEFAULT_GOAL := all
 
 all: demo
@@ -121,6 +123,20 @@ release: run
 
 demo:
 	@$(MAKE) --no-print-directory run MANIFEST=manifests/demo.toml
+
+# ---- compose scripts -------------------------------------------------------------------
+# The script's motion goes through syn-evaluate like any retargeted trial, and out as robot CSV and .mot.
+SCRIPT ?= manifests/scripts/dance_phrase.toml
+LIBRARY ?= $(OUTPUTS)/demo/library.h5
+COMPOSE_MODEL ?= datasets/robots/unitree_g1/g1_29dof.urdf
+COMPOSE_MAP ?= manifests/robots/g1.toml
+compose: build
+	@if [ ! -f $(LIBRARY) ]; then $(MAKE) --no-print-directory demo; fi
+	@name=$$(basename $(SCRIPT) .toml); out=$(OUTPUTS)/compose; mkdir -p $$out; \
+	$(BIN)/syn-compose $(SCRIPT) --library $(LIBRARY) -o $$out/$$name.motion.h5 && \
+	$(BIN)/syn-evaluate $$out/$$name.motion.h5 --model $(COMPOSE_MODEL) --robot-map $(COMPOSE_MAP) -o $$out/$$name.metrics.json && \
+	$(BIN)/syn-export $$out/$$name.motion.h5 -o $$out/$$name.csv --format robot-csv --model $(COMPOSE_MODEL) --rate 30 && \
+	$(BIN)/syn-export $$out/$$name.motion.h5 -o $$out/$$name.mot --model $(COMPOSE_MODEL)
 
 clean:
 	rm -rf $(BUILD_DIR) build-sanitize build-fuzz outputs
