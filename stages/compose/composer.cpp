@@ -6,6 +6,7 @@
 
 #include "common/cubic_spline.h"
 #include "common/error.h"
+#include "common/motion_from_trajectory.h"
 #include "common/motion_integration.h"
 #include "common/row_major.h"
 
@@ -291,36 +292,7 @@ ComposedMotion Composer::compose() const {
     if (result.step_start_times.size() == static_cast<size_t>(piece.step)) result.step_start_times.push_back(piece.start);
   }
 
-  MotionData& motion = result.motion;
-  motion.time_s = times_;
-  motion.coordinate_names = model_.coordinateNames();
-  motion.velocity_names = model_.velocityNames();
-  motion.model_name = model_.name();
-  motion.model_sha256 = model_.sourceSha256();
-  motion.total_mass = model_.totalMass();
-  motion.q = RowMajorValues(q);
-  motion.u = RowMajorValues(u);
-  // Accelerations by central differences of the velocity samples (one-sided at the ends), then inverse dynamics.
-  const Eigen::Index frames = q.rows();
-  Eigen::MatrixXd udot(frames, nu);
-  for (Eigen::Index i = 0; i < frames; ++i) {
-    const Eigen::Index a = std::max<Eigen::Index>(0, i - 1), b = std::min(frames - 1, i + 1);
-    udot.row(i) = b > a ? Eigen::RowVectorXd((u.row(b) - u.row(a)) / (times_[static_cast<size_t>(b)] - times_[static_cast<size_t>(a)]))
-                        : Eigen::RowVectorXd::Zero(nu);
-  }
-  motion.udot = RowMajorValues(udot);
-  Workspace workspace(model_);
-  Eigen::VectorXd qi(model_.nq()), ui(nu), ai(nu), tau(nu);
-  motion.tau.resize(static_cast<size_t>(frames * nu));
-  for (Eigen::Index i = 0; i < frames; ++i) {
-    qi = q.row(i).transpose();
-    ui = u.row(i).transpose();
-    ai = udot.row(i).transpose();
-    workspace.setQ(qi);
-    workspace.setU(ui);
-    workspace.calcInverseDynamics(ai, tau);
-    std::copy(tau.data(), tau.data() + nu, motion.tau.begin() + i * nu);
-  }
+  result.motion = MotionFromTrajectory(model_, times_, q, u);
   return result;
 }
 
