@@ -5,6 +5,10 @@
 #   make release MANIFEST=manifests/X.toml   a deterministic tar of the archive's results
 #   make compose SCRIPT=manifests/scripts/X.toml [LIBRARY=outputs/demo/library.h5]   a scripted motion,
 #                         evaluated and exported (outputs/compose/X.*)
+#   make bench-archive [ARCHIVE_HOURS=3 ARCHIVE_SUBJECTS=20]   generate a large archive from the CMU trials
+#                         and run the whole pipeline on it: wall time and frames/s per stage
+#   make project [LIBRARY=... STYLE=walk]   the paper's text-to-motion experiment on the HumanML3D and MDM
+#                         joints in ../shared/datasets/humanml3d: before/after table in outputs/project/
 #   make test             build and run every test (ctest)
 #   make bench            Google Benchmark programs: per-call times and frames per second per stage
 #   make sanitize-test    the test suite on an ASan+UBSan build (-O1 -g)
@@ -27,7 +31,7 @@ DEBIAN_PACKAGES := cmake g++ make libeigen3-dev libsimbody-dev libceres-dev libs
 # Only for `make fuzz-smoke`: libFuzzer ships with clang's runtime.
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 
-.PHONY: all setup setup-fuzz configure build test bench demo run release compose sanitize-test fuzz-smoke clean print-packages
+.PHONY: all setup setup-fuzz configure build test bench bench-archive demo run release compose project sanitize-test fuzz-smoke clean print-packages
 .DEFAULT_GOAL := all
 
 all: demo
@@ -123,6 +127,40 @@ release: run
 
 demo:
 	@$(MAKE) --no-print-directory run MANIFEST=manifests/demo.toml
+
+# ---- scale: a generated archive -------------------------------------------------------
+CMU_BVH ?= ../shared/datasets/cmu_bvh
+ARCHIVE_HOURS ?= 3
+ARCHIVE_SUBJECTS ?= 20
+bench-archive: build
+	@gen=$(OUTPUTS)/archive-captures; start=$$(date +%s.%N); \
+	$(BIN)/syn-archive $(CMU_BVH)/*/*.bvh --index $(CMU_BVH)/index.csv --subjects $(ARCHIVE_SUBJECTS) \
+	  --hours $(ARCHIVE_HOURS) -o $$gen 2>&1 | grep -v skipped; \
+	generated=$$(date +%s.%N); \
+	$(BIN)/syn-plan $$gen/archive.toml -o $(OUTPUTS)/archive/rules.mk --outputs $(OUTPUTS) && \
+	$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/archive/rules.mk SYN_BIN=$(BIN) all > $(OUTPUTS)/archive/progress.log || exit 1; \
+	end=$$(date +%s.%N); frames=$$(sed -n 's/^# frames: //p' $$gen/archive.toml); \
+	echo "bench-archive: $(ARCHIVE_SUBJECTS) subjects, $(ARCHIVE_HOURS) h, $$frames frames at 120 Hz, -j$(JOBS)"; \
+	awk -v g="$$start" -v s="$$generated" -v e="$$end" 'BEGIN{printf "  generate  %8.1f s wall\n  pipeline  %8.1f s wall\n", s-g, e-s}'; \
+	awk -v frames=$$frames '{cpu[$$1]+=$$(NF-1); jobs[$$1]++} END{printf "  %-10s %6s %10s %14s\n","stage","jobs","cpu s","frames/s/core"; \
+	  for (st in cpu) printf "  %-10s %6d %10.1f %14.0f\n", st, jobs[st], cpu[st], (st=="library"||st=="summary") ? 0 : frames/cpu[st]}' \
+	  $(OUTPUTS)/archive/progress.log | sort
+
+# ---- text-to-motion projection ---------------------------------------------------------
+# Each [T,22,3] joints file is ingested and retargeted with the humanml3d22 marker set, then projected.
+T2M_ROOT ?= ../shared/datasets/humanml3d
+T2M_INPUTS ?= derived/mdm_sample0_joints_T22x3 derived/mdm_sample1_joints_T22x3 derived/mdm_sample2_joints_T22x3 new_joints_012314
+STYLE ?= walk
+project: build
+	@if [ ! -f $(LIBRARY) ]; then $(MAKE) --no-print-directory demo; fi
+	@out=$(OUTPUTS)/project; mkdir -p $$out; : > $$out/summary.txt; \
+	for input in $(T2M_INPUTS); do name=$$(basename $$input); \
+	  $(BIN)/syn-ingest $(T2M_ROOT)/$$input.npy -o $$out/$$name.markers.h5 2> $$out/$$name.log && \
+	  $(BIN)/syn-retarget $$out/$$name.markers.h5 -o $$out/$$name.motion.h5 --model $(COMPOSE_MODEL) --robot-map $(COMPOSE_MAP) \
+	    --markerset manifests/markersets/humanml3d22.toml 2>> $$out/$$name.log && \
+	  $(BIN)/syn-project $$out/$$name.motion.h5 --library $(LIBRARY) --style $(STYLE) --model $(COMPOSE_MODEL) \
+	    --robot-map $(COMPOSE_MAP) -o $$out/$$name.projected.motion.h5 2>&1 | tee -a $$out/summary.txt || exit 1; \
+	done; echo "make: before/after table in $$out/summary.txt"
 
 # ---- compose scripts -------------------------------------------------------------------
 # The script's motion goes through syn-evaluate like any retargeted trial, and out as robot CSV and .mot.

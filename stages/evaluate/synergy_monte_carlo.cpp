@@ -3,27 +3,11 @@
 #include <cmath>
 
 #include "common/motion_integration.h"
+#include "common/random.h"
 #include "common/row_major.h"
 
 namespace syn {
 namespace {
-
-// splitmix64 (Steele, Lea, Flood 2014): tiny, well mixed, and specified bit for bit.
-class SplitMix64 {
- public:
-  explicit SplitMix64(uint64_t seed) : state_(seed) {}
-  uint64_t next() {
-    uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  // Uniform in [0, 1) from the top 53 bits.
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-
- private:
-  uint64_t state_;
-};
 
 struct Spread {
   double mean = RangeMetrics::kNone, std = RangeMetrics::kNone;
