@@ -98,7 +98,7 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
   const bool has_robot = !manifest.model.empty() && !manifest.robot_map.empty() && !manifest.markerset.empty();
   const std::string model = MakeEscaped(ShellWord(manifest.model));
   std::map<std::string, std::vector<std::string>> synergies_by_style;
-  std::vector<std::string> all_synergies;
+  std::vector<std::string> all_synergies, all_metrics;
   for (const ManifestTrial& trial : manifest.trials) {
     const std::string dir = out + "/trials/" + trial.id;
     const auto parameters_of = [&](const std::string& stage) {
@@ -132,6 +132,7 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
                                 parameters_of("evaluate"), trial.id + ".evaluate"));
     synergies_by_style[trial.style].push_back(synergies);
     all_synergies.push_back(synergies);
+    all_metrics.push_back(dir + "/metrics.json");
   }
   if (all_synergies.empty()) return plan;
   // Archive-wide stages take the manifest's defaults (every trial carries a copy; overrides are per trial).
@@ -147,8 +148,11 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
   plan.jobs.push_back(MakeJob(out, "library", "all-styles", out + "/library.h5", all_synergies, Joined(all_synergies),
                               "", library_parameters, "library"));
   for (const std::string table : {"trials", "segments"}) {
-    plan.jobs.push_back(MakeJob(out, "summary", table, out + "/summary/" + table + ".csv", all_synergies,
-                                Joined(all_synergies), " --table " + table, nlohmann::json::object(), "summary." + table));
+    std::vector<std::string> inputs = all_synergies;
+    inputs.insert(inputs.end(), all_metrics.begin(), all_metrics.end());
+    plan.jobs.push_back(MakeJob(out, "summary", table, out + "/summary/" + table + ".csv", inputs,
+                                Joined(all_synergies) + " --metrics " + Joined(all_metrics), " --table " + table,
+                                nlohmann::json::object(), "summary." + table));
   }
   return plan;
 }

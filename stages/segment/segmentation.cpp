@@ -35,30 +35,16 @@ Segmentation SegmentMotion(const MotionData& motion, const Model& model, const S
   Segmentation result;
   if (frames == 0) return result;
 
-  // Momentum at every motion frame.
+  // The state at each analysis instant (linear between frames; a free base's quaternion by normalised
+  // lerp), then its momentum: one Simbody A·u per analysis sample, wherever the motion's frames fall.
   const int width = options.momentum == "centroidal" ? 6 : static_cast<int>(nu);
-  std::vector<double> momentum(static_cast<size_t>(frames * width));
+  const bool free_base = model.hasFreeBase();
   Workspace workspace(model);
-  Eigen::VectorXd q(nq), u(nu), p(width);
-  for (int64_t t = 0; t < frames; ++t) {
-    q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
-    u = Eigen::Map<const Eigen::VectorXd>(&motion.u[static_cast<size_t>(t * nu)], nu);
-    workspace.setQ(q);
-    if (options.momentum == "centroidal") {
-      workspace.setU(u);
-      p = workspace.calcCentroidalMomentum();
-    } else {
-      workspace.calcMassTimes(u, p);  // A(q) u needs positions only: no velocity-stage realisation
-    }
-    std::copy(p.data(), p.data() + width, momentum.begin() + t * width);
-  }
-
-  // Resample linearly onto the analysis grid and difference.
+  Eigen::VectorXd q(nq), u(nu), p(width), p_before(width);
   const double start = motion.time_s.front(), end = motion.time_s.back();
   const int64_t samples = static_cast<int64_t>(std::floor((end - start) * options.analysis_rate + 1e-9)) + 1;
   result.analysis_time.resize(static_cast<size_t>(samples));
   result.delta_p.assign(static_cast<size_t>(samples), 0.0);
-  std::vector<double> previous(static_cast<size_t>(width)), current(static_cast<size_t>(width));
   size_t segment = 0;
   for (int64_t i = 0; i < samples; ++i) {
     const double time = start + static_cast<double>(i) / options.analysis_rate;
@@ -67,14 +53,24 @@ Segmentation SegmentMotion(const MotionData& motion, const Model& model, const S
     const size_t next = std::min(segment + 1, static_cast<size_t>(frames - 1));
     const double span = motion.time_s[next] - motion.time_s[segment];
     const double fraction = span > 0 ? std::clamp((time - motion.time_s[segment]) / span, 0.0, 1.0) : 0.0;
-    double squared = 0;
-    for (int k = 0; k < width; ++k) {
-      current[static_cast<size_t>(k)] = (1 - fraction) * momentum[segment * static_cast<size_t>(width) + static_cast<size_t>(k)] +
-                                        fraction * momentum[next * static_cast<size_t>(width) + static_cast<size_t>(k)];
-      squared += std::pow(current[static_cast<size_t>(k)] - previous[static_cast<size_t>(k)], 2);
+    const double* q0 = &motion.q[segment * static_cast<size_t>(nq)];
+    const double* q1 = &motion.q[next * static_cast<size_t>(nq)];
+    const double* u0 = &motion.u[segment * static_cast<size_t>(nu)];
+    const double* u1 = &motion.u[next * static_cast<size_t>(nu)];
+    for (int64_t k = 0; k < nq; ++k) q[k] = (1 - fraction) * q0[k] + fraction * q1[k];
+    if (free_base && q0[0] * q1[0] + q0[1] * q1[1] + q0[2] * q1[2] + q0[3] * q1[3] < 0) {
+      for (int k = 0; k < 4; ++k) q[k] = (1 - fraction) * q0[k] - fraction * q1[k];  // the same rotation, nearer sign
     }
-    if (i > 0) result.delta_p[static_cast<size_t>(i)] = std::sqrt(squared);
-    previous.swap(current);
+    for (int64_t k = 0; k < nu; ++k) u[k] = (1 - fraction) * u0[k] + fraction * u1[k];
+    workspace.setQ(q);  // normalises the quaternion
+    if (options.momentum == "centroidal") {
+      workspace.setU(u);
+      p = workspace.calcCentroidalMomentum();
+    } else {
+      workspace.calcMassTimes(u, p);  // A(q) u needs positions only: no velocity-stage realisation
+    }
+    if (i > 0) result.delta_p[static_cast<size_t>(i)] = (p - p_before).norm();
+    p_before.swap(p);
   }
 
   // Threshold and boundaries.

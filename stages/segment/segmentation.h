@@ -1,8 +1,8 @@
 // Momentum segmentation (paper, "Postural Synergies ... in SynSculptor"): a
 // new motion primitive starts where the generalized momentum jumps.
 //
-//   p(t) = A(q(t)) u(t)            (Simbody's O(n) A·u; A is never formed)
-//   resampled to the analysis rate (default 100 Hz, as the paper's Fig. 3)
+//   p(t_i) = A(q(t_i)) u(t_i)      at the analysis instants t_i (default 100 Hz, as the paper's Fig. 3),
+//                                  q and u linear between frames (Simbody's O(n) A·u; A is never formed)
 //   ΔP(t_i) = ‖p(t_i) − p(t_{i−1})‖
 //   boundary where ΔP > ΔP_th and at least min_duration after the previous one
 //

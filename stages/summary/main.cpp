@@ -10,12 +10,14 @@ int main(int argc, char** argv) {
                "syn-summary"};
   syn::CommonFlags common;
   syn::AddCommonFlags(app, common);
-  std::vector<std::string> inputs;
+  std::vector<std::string> inputs, metrics;
   std::string table = "trials";
   app.add_option("INPUT", inputs, "Synergies files, in row order")->required();
+  app.add_option("--metrics", metrics, "syn-evaluate JSON files, one per synergies file in the same order: adds "
+                                        "dP, dKE, power, foot sliding and the rank-k changes to each row");
   app.add_option("--table", table, "trials | segments")->capture_default_str()->check(CLI::IsMember({"trials", "segments"}));
   return syn::RunTool(app, argc, argv, [&] {
-    syn::WriteSummaryTable(inputs, table, common.output);
+    syn::WriteSummaryTable(inputs, metrics, table, common.output);
     std::cerr << "syn-summary: " << inputs.size() << " trials -> " << common.output << "\n";
   });
 }

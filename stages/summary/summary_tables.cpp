@@ -9,6 +9,8 @@
 
 #include "common/error.h"
 #include "common/file_bytes.h"
+
+#include <nlohmann/json.hpp>
 #include "stages/synergies/synergies.h"
 
 namespace syn {
@@ -32,21 +34,51 @@ std::string Cell(const std::string& text) {
   return quoted;
 }
 
+// Metric cells from a syn-evaluate JSON object (empty when absent or null).
+std::string MetricCells(const nlohmann::json* metrics, const nlohmann::json* monte_carlo) {
+  std::ostringstream cells;
+  auto cell = [&](const nlohmann::json* object, const char* key) {
+    cells << ',';
+    if (object && object->contains(key) && (*object)[key].is_number()) cells << Number((*object)[key].get<double>());
+  };
+  for (const char* key : {"mean_delta_p", "mean_delta_ke", "mean_power_w_per_kg", "foot_sliding_ratio"}) cell(metrics, key);
+  for (const char* key : {"rank_k_delta_p", "rank_k_delta_ke"}) cell(monte_carlo, key);
+  return cells.str();
+}
+
+constexpr const char* kMetricColumns =
+    ",mean_delta_p,mean_delta_ke,mean_power_w_per_kg,foot_sliding_ratio,rank_k_change_delta_p,rank_k_change_delta_ke";
+
 }  // namespace
 
-void WriteSummaryTable(const std::vector<std::string>& synergies_files, const std::string& table, const std::string& output) {
+void WriteSummaryTable(const std::vector<std::string>& synergies_files, const std::vector<std::string>& metrics_files,
+                       const std::string& table, const std::string& output) {
+  if (!metrics_files.empty() && metrics_files.size() != synergies_files.size()) {
+    throw UsageError("give one metrics file per synergies file, in the same order");
+  }
   // (Rows are built with a stream: GCC 12 warns falsely on chains of std::string operator+.)
   std::ostringstream text;
   if (table == "trials") {
     text << "trial,subject,style,motion_class,segments,duration_s,mean_segment_duration_s,"
-            "variance_explained_by_kept_synergies,median_components_for_90_percent\n";
+            "variance_explained_by_kept_synergies,median_components_for_90_percent"
+         << (metrics_files.empty() ? "" : kMetricColumns) << "\n";
   } else if (table == "segments") {
     text << "trial,style,motion_class,segment,start_frame,end_frame,duration_s,pc1_ratio,pc2_ratio,pc3_ratio,"
-            "variance_explained_by_kept_synergies,components_for_90_percent\n";
+            "variance_explained_by_kept_synergies,components_for_90_percent"
+         << (metrics_files.empty() ? "" : kMetricColumns) << "\n";
   } else {
     throw UsageError("--table must be trials or segments");
   }
-  for (const std::string& file : synergies_files) {
+  for (size_t f = 0; f < synergies_files.size(); ++f) {
+    const std::string& file = synergies_files[f];
+    nlohmann::json metrics;
+    if (!metrics_files.empty()) {
+      try {
+        metrics = nlohmann::json::parse(ReadFileText(metrics_files[f]));
+      } catch (const nlohmann::json::exception& error) {
+        throw DataError(Location::InFile(metrics_files[f]), std::string("not syn-evaluate JSON: ") + error.what());
+      }
+    }
     SynergyOptions labels;
     const TrialSynergies trial = ReadTrialSynergies(file, &labels);
     double duration = 0, explained = 0;
@@ -61,7 +93,21 @@ void WriteSummaryTable(const std::vector<std::string>& synergies_files, const st
         text << Cell(labels.trial) << ',' << Cell(labels.style) << ',' << Cell(labels.motion_class) << ',' << s << ','
              << segment.start_frame << ',' << segment.end_frame << ',' << Number(segment.duration);
         for (int k = 0; k < 3; ++k) text << ',' << (k < ratio.size() ? Number(ratio[k]) : std::string());
-        text << ',' << Number(ratio.sum()) << ',' << segment.synergies.components_for_90_percent << '\n';
+        text << ',' << Number(ratio.sum()) << ',' << segment.synergies.components_for_90_percent;
+        if (!metrics_files.empty()) {
+          const nlohmann::json* row = nullptr;
+          nlohmann::json changes;
+          if (metrics.contains("segments") && s < metrics["segments"].size()) {
+            const nlohmann::json& entry = metrics["segments"][s];
+            row = &entry["stored"];
+            if (entry.contains("monte_carlo")) {
+              changes["rank_k_delta_p"] = entry["monte_carlo"]["perturbed"]["mean_delta_p"]["rank_k_relative_change"];
+              changes["rank_k_delta_ke"] = entry["monte_carlo"]["perturbed"]["mean_delta_ke"]["rank_k_relative_change"];
+            }
+          }
+          text << MetricCells(row, &changes);
+        }
+        text << '\n';
       }
     }
     if (table == "trials") {
@@ -70,7 +116,16 @@ void WriteSummaryTable(const std::vector<std::string>& synergies_files, const st
       text << Cell(labels.trial) << ',' << Cell(labels.subject) << ',' << Cell(labels.style) << ','
            << Cell(labels.motion_class) << ',' << trial.segments.size() << ',' << Number(duration) << ','
            << Number(count > 0 ? duration / count : 0) << ',' << Number(count > 0 ? explained / count : 0) << ','
-           << (k90.empty() ? std::string() : std::to_string(k90[k90.size() / 2])) << '\n';
+           << (k90.empty() ? std::string() : std::to_string(k90[k90.size() / 2]));
+      if (!metrics_files.empty()) {
+        nlohmann::json changes;
+        if (metrics.contains("monte_carlo")) {
+          changes["rank_k_delta_p"] = metrics["monte_carlo"].value("mean_rank_k_relative_change_delta_p", nlohmann::json());
+          changes["rank_k_delta_ke"] = metrics["monte_carlo"].value("mean_rank_k_relative_change_delta_ke", nlohmann::json());
+        }
+        text << MetricCells(metrics.contains("trial") ? &metrics["trial"] : nullptr, &changes);
+      }
+      text << '\n';
     }
   }
   WriteFileAtomically(output, text.str());

@@ -9,7 +9,10 @@ namespace syn {
 
 // Writes the table ("trials" or "segments") to `output` (temporary name, then
 // renamed). Rows follow the order of `synergies_files`; numbers use "%.6g",
-// so the same inputs give the same bytes.
-void WriteSummaryTable(const std::vector<std::string>& synergies_files, const std::string& table, const std::string& output);
+// so the same inputs give the same bytes. With `metrics_files` (syn-evaluate
+// JSON, one per synergies file), each row also gets the trial's or segment's
+// mean ΔP, ΔKE, power, foot sliding and the rank-k reconstruction's change.
+void WriteSummaryTable(const std::vector<std::string>& synergies_files, const std::vector<std::string>& metrics_files,
+                       const std::string& table, const std::string& output);
 
 }  // namespace syn
