@@ -160,7 +160,7 @@ FrameIk::FrameIk(const Model& model, std::vector<IkTask> tasks, const Eigen::Vec
 
 FrameIk::~FrameIk() = default;
 
-FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q) {
+FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
   Impl& impl = *impl_;
   const int offset = impl.model.hasFreeBase() ? 1 : 0;
   const int first_joint = impl.model.hasFreeBase() ? 6 : 0;
@@ -169,8 +169,15 @@ FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::Vecto
   for (int u = first_joint; u < impl.model.nu(); ++u) {
     const double value = q[u + offset];
     q[u + offset] = std::min(std::max(value, impl.lower[u]), impl.upper[u]);
-    if (std::isfinite(impl.lower[u])) impl.problem.SetParameterLowerBound(impl.delta.data(), u, impl.lower[u] - q[u + offset]);
-    if (std::isfinite(impl.upper[u])) impl.problem.SetParameterUpperBound(impl.delta.data(), u, impl.upper[u] - q[u + offset]);
+    double low = impl.lower[u] - q[u + offset], high = impl.upper[u] - q[u + offset];
+    const double reach = step_time * impl.model.uLimit()[u];
+    if (step_time > 0 && std::isfinite(reach)) {
+      low = std::max(low, -reach);
+      high = std::min(high, reach);
+    }
+    // Ceres keeps bounds between solves: reset them every frame (±max() stands for none).
+    impl.problem.SetParameterLowerBound(impl.delta.data(), u, std::isfinite(low) ? low : -std::numeric_limits<double>::max());
+    impl.problem.SetParameterUpperBound(impl.delta.data(), u, std::isfinite(high) ? high : std::numeric_limits<double>::max());
   }
   impl.cost->setFrame(&targets, q);
   ceres::Solver::Summary summary;

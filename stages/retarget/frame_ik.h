@@ -67,8 +67,9 @@ class FrameIk {
   FrameIk& operator=(const FrameIk&) = delete;
 
   // Solves one frame in place: q holds the warm start on entry and the
-  // solution on exit. `targets` has one entry per task.
-  FrameIkSummary solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q);
+  // solution on exit. `targets` has one entry per task. With step_time > 0
+  // each joint moves at most its URDF velocity limit × step_time.
+  FrameIkSummary solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time = 0.0);
 
   // Position error (m) and angle error (rad) of each task at q (NaN where the
   // target is inactive or has no such part).

@@ -28,6 +28,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--scale", options.scale, "Robot/subject height ratio for landmark displacements, or auto")
       ->capture_default_str();
+  app.add_option("--velocity-limit-scale", options.velocity_limit_scale,
+                 "Bound each frame's joint step by this fraction of the URDF velocity limit (0: unbounded)")
+      ->capture_default_str();
   app.add_option("--max-bridge", options.max_bridge,
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")
       ->capture_default_str();

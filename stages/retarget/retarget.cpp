@@ -106,6 +106,7 @@ bool RetargetOptions::IsValid(std::string* error) const {
   if (model.empty()) return fail("--model is required (a URDF file)");
   if (robot_map.empty()) return fail("--robot-map is required (manifests/robots/NAME.toml)");
   if (markerset.empty()) return fail("--markerset is required (manifests/markersets/NAME.toml)");
+  if (!(velocity_limit_scale >= 0)) return fail("--velocity-limit-scale must be >= 0 (0: unbounded)");
   if (floating_base != "map" && floating_base != "auto" && floating_base != "free" && floating_base != "fixed") {
     return fail("--floating-base must be map, auto, free or fixed");
   }
@@ -120,7 +121,7 @@ bool RetargetOptions::IsValid(std::string* error) const {
 
 nlohmann::json RetargetOptions::ToJson() const {
   return {{"floating_base", floating_base}, {"reference_time", reference_time}, {"scale", scale},
-          {"max_bridge", max_bridge}};
+          {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -288,6 +289,7 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
   std::array<std::vector<double>, 3> position_by_level, angle_by_level;
   std::vector<int64_t> bridged;
   Eigen::VectorXd q = q_ref;
+  double last_solved_time = std::nan("");  // the first solve may travel from q_ref freely
   const auto start = std::chrono::steady_clock::now();
   for (int64_t t = 0; t < frames; ++t) {
     bool any = false;
@@ -314,7 +316,11 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
     if (!any) {
       bridged.push_back(t);
     } else {
-      report.mean_ik_iterations += ik.solve(targets, q).iterations;
+      const double step_time = std::isfinite(last_solved_time) ? options.velocity_limit_scale *
+                                                                     (motion.time_s[static_cast<size_t>(t)] - last_solved_time)
+                                                               : 0.0;
+      report.mean_ik_iterations += ik.solve(targets, q, step_time).iterations;
+      last_solved_time = motion.time_s[static_cast<size_t>(t)];
       ik.measureErrors(targets, q, position_error, angle_error);
       for (size_t i = 0; i < task_count; ++i) {
         motion.landmark_error[(static_cast<size_t>(t) * task_count + i) * 2] = position_error[i];

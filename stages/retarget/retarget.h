@@ -25,6 +25,10 @@ struct RetargetOptions {
   std::string scale = "auto";
   // Frames with no target at all are bridged when the gap is at most this long (s).
   double max_bridge = 0.25;
+  // Each frame's joint step is bounded by this fraction of the URDF velocity limit times the time since
+  // the previous solved frame (0 = unbounded): the robot cannot follow a target faster than its motors,
+  // and the IK cannot jump to another branch of its solutions between two frames.
+  double velocity_limit_scale = 1.0;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;
