@@ -89,6 +89,10 @@ class Model {
   std::shared_ptr<const Impl> impl_;
 };
 
+// Model::Load with the floating base given by name ("auto", "free", "fixed"), as every tool's
+// --floating-base flag takes it. Throws UsageError for another name.
+[[nodiscard]] Model LoadModel(const std::string& urdf_path, std::string_view floating_base_name);
+
 class Workspace {
  public:
   explicit Workspace(const Model& model);

@@ -317,6 +317,12 @@ Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
   return Model(impl);
 }
 
+Model LoadModel(const std::string& urdf_path, std::string_view floating_base_name) {
+  ModelOptions options;
+  options.floating_base = FloatingBaseFromName(floating_base_name);
+  return Model::Load(urdf_path, options);
+}
+
 const std::string& Model::name() const { return impl_->name; }
 const std::string& Model::sourcePath() const { return impl_->path; }
 const std::string& Model::sourceSha256() const { return impl_->sha256; }

@@ -10,6 +10,7 @@
 #include "common/random.h"
 #include "stages/archive/joint_markers.h"
 #include "stages/ingest/ingest.h"
+#include "stages/ingest/text_fields.h"
 
 namespace syn {
 namespace {
@@ -209,15 +210,7 @@ std::map<std::string, std::pair<std::string, std::string>> ReadCmuIndex(const st
   std::string line;
   std::getline(lines, line);  // header: subject,trial,file,motion_label,motion_class,dance_genre,...
   while (std::getline(lines, line)) {
-    std::vector<std::string> cells;
-    std::string cell;
-    bool quoted = false;
-    for (char c : line) {
-      if (c == '"') quoted = !quoted;
-      else if (c == ',' && !quoted) { cells.push_back(cell); cell.clear(); }
-      else cell += c;
-    }
-    cells.push_back(cell);
+    const std::vector<std::string> cells = SplitQuotedCsv(line);
     if (cells.size() >= 6) index[cells[1]] = {cells[4], cells[5]};
   }
   return index;

@@ -20,9 +20,7 @@ int main(int argc, char** argv) {
   app.add_option("--library", library_path, "Synergy library (syn-library)")->required();
   return syn::RunTool(app, argc, argv, [&] {
     const syn::ComposeScript script = syn::LoadComposeScript(script_path);
-    syn::ModelOptions model_options;
-    model_options.floating_base = syn::FloatingBaseFromName(script.floating_base);
-    const syn::Model model = syn::Model::Load(script.model, model_options);
+    const syn::Model model = syn::LoadModel(script.model, script.floating_base);
     const syn::LibraryReader library(library_path);
     const syn::Composer composer(script, library, model, syn::Composer::StartPose(script, library));
     const syn::ComposedMotion composed = composer.compose();

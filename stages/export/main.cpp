@@ -37,9 +37,7 @@ int main(int argc, char** argv) {
     if (format == "csv") {
       text = syn::MotionToCsv(motion);
     } else {
-      syn::ModelOptions model_options;
-      model_options.floating_base = syn::FloatingBaseFromName(floating_base);
-      const syn::Model model = syn::Model::Load(model_path, model_options);
+      const syn::Model model = syn::LoadModel(model_path, floating_base);
       text = format == "mot" ? syn::MotionToMot(motion, model, std::filesystem::path(input).stem().string())
                              : syn::MotionToRobotCsv(motion, model);
     }

@@ -62,4 +62,15 @@ FieldValue ParseField(std::string_view field, double* value) {
   return FieldValue::kNumber;
 }
 
+std::vector<std::string> SplitQuotedCsv(std::string_view line) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') quoted = !quoted;
+    else if (c == ',' && !quoted) cells.emplace_back();
+    else cells.back() += c;
+  }
+  return cells;
+}
+
 }  // namespace syn

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -23,6 +24,8 @@ class LineReader {
 
 // Splits on `delimiter`, keeping empty fields ("a,,b" -> "a", "", "b").
 void SplitFields(std::string_view line, char delimiter, std::vector<std::string_view>& fields);
+// Splits a CSV line on commas outside double quotes, dropping the quotes ("a,\"b, c\",d" -> a | b, c | d).
+[[nodiscard]] std::vector<std::string> SplitQuotedCsv(std::string_view line);
 // Splits on runs of spaces and tabs (no empty fields).
 void SplitWhitespace(std::string_view line, std::vector<std::string_view>& fields);
 

@@ -30,9 +30,7 @@ int main(int argc, char** argv) {
   app.add_option("--floating-base", floating_base, "auto | free | fixed, as for syn-retarget")->capture_default_str();
   app.add_option("--eval-rate", evaluation.eval_rate, "Rate of the before/after evaluation, Hz")->capture_default_str();
   return syn::RunTool(app, argc, argv, [&] {
-    syn::ModelOptions model_options;
-    model_options.floating_base = syn::FloatingBaseFromName(floating_base);
-    const syn::Model model = syn::Model::Load(model_path, model_options);
+    const syn::Model model = syn::LoadModel(model_path, floating_base);
     const syn::RobotMap map = syn::LoadRobotMap(robot_map_path);
     int torso_link = -1;
     for (const syn::RobotTask& task : map.tasks) {

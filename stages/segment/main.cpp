@@ -31,9 +31,7 @@ int main(int argc, char** argv) {
   return syn::RunTool(app, argc, argv, [&] {
     std::string problem;
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);
-    syn::ModelOptions model_options;
-    model_options.floating_base = syn::FloatingBaseFromName(floating_base);
-    const syn::Model model = syn::Model::Load(model_path, model_options);
+    const syn::Model model = syn::LoadModel(model_path, floating_base);
     const syn::MotionData motion = syn::ReadMotionFile(input);
     const syn::Segmentation segmentation = syn::SegmentMotion(motion, model, options);
 

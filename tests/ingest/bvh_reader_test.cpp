@@ -1,4 +1,5 @@
 #include "stages/ingest/bvh_reader.h"
+#include "stages/ingest/text_fields.h"
 
 #include <gtest/gtest.h>
 
@@ -163,16 +164,7 @@ std::vector<IndexRow> ReadIndex() {
   std::string line;
   std::getline(in, line);
   while (std::getline(in, line)) {
-    // Split on commas outside quotes.
-    std::vector<std::string> cells;
-    std::string cell;
-    bool quoted = false;
-    for (char c : line) {
-      if (c == '"') quoted = !quoted;
-      else if (c == ',' && !quoted) cells.push_back(cell), cell.clear();
-      else cell += c;
-    }
-    cells.push_back(cell);
+    const std::vector<std::string> cells = SplitQuotedCsv(line);
     IndexRow row;
     row.trial = cells[1];
     row.file = cells[2];
