@@ -20,7 +20,8 @@ std::vector<SourceTrial> Sources() {
     SourceTrial source;
     source.id = id;
     source.path = testing::SharedPath(std::string("cmu_bvh/") + std::string(id).substr(0, 2) + "/" + id + ".bvh");
-    source.motion_class = source.style = "x";
+    source.motion_class = std::string("x");
+    source.style = source.motion_class;
     sources.push_back(source);
   }
   return sources;
