@@ -118,6 +118,13 @@ nlohmann::json EvaluateMotion(const MotionData& motion, const Model& model, cons
                      {"feet", feet.size()}};
   result["motion"] = {{"frames", motion.frames()}, {"duration_s", motion.time_s.back() - motion.time_s.front()}};
   result["trial"] = whole.ToJson();
+  // Where the power goes: every velocity's mean |τ_i u_i| per kilogram (unactuated ones included, marked).
+  nlohmann::json by_velocity = nlohmann::json::object();
+  for (size_t v = 0; v < whole.power_by_velocity.size(); ++v) {
+    by_velocity[model.velocityNames()[v] + (model.actuatedVelocities()[v] ? "" : " (unactuated)")] =
+        whole.power_by_velocity[v];
+  }
+  result["trial"]["power_by_velocity_w_per_kg"] = by_velocity;
   result["segments"] = nlohmann::json::array();
   if (!synergies) return result;
 

@@ -98,6 +98,7 @@ std::vector<RangeMetrics> MotionEvaluator::evaluate(const std::vector<double>& t
   const size_t feet = all_metrics ? feet_.size() : 0;
   std::vector<std::vector<FootSample>> foot_samples(feet, std::vector<FootSample>(static_cast<size_t>(eval_frames)));
   Accumulator whole_sum;
+  std::vector<double> power_by_velocity(all_metrics ? static_cast<size_t>(nu) : 0, 0.0);
   std::vector<Accumulator> range_sums(ranges.size());
   size_t range = 0;
   int64_t range_before = -1;
@@ -116,7 +117,9 @@ std::vector<RangeMetrics> MotionEvaluator::evaluate(const std::vector<double>& t
       workspace_.calcInverseDynamics(udot, tau);
       power = 0;
       for (int64_t v = 0; v < nu; ++v) {
-        if (actuated_[static_cast<size_t>(v)]) power += std::abs(tau[v] * uk[v]);
+        const double joint_power = std::abs(tau[v] * uk[v]);
+        power_by_velocity[static_cast<size_t>(v)] += joint_power;
+        if (actuated_[static_cast<size_t>(v)]) power += joint_power;
       }
       power /= mass;
     }
@@ -151,7 +154,11 @@ std::vector<RangeMetrics> MotionEvaluator::evaluate(const std::vector<double>& t
 
   const std::vector<uint8_t> sliding = FindSlidingFrames(foot_samples, 1.0 / eval_rate_, sliding_);
   const std::vector<uint8_t>* sliding_flags = feet == 0 ? nullptr : &sliding;
-  if (whole) *whole = whole_sum.finish(time.front(), time.back(), sliding_flags);
+  if (whole) {
+    *whole = whole_sum.finish(time.front(), time.back(), sliding_flags);
+    for (double& value : power_by_velocity) value /= mass * static_cast<double>(std::max<int64_t>(1, eval_frames));
+    whole->power_by_velocity = std::move(power_by_velocity);
+  }
   std::vector<RangeMetrics> result;
   for (size_t r = 0; r < ranges.size(); ++r) {
     result.push_back(range_sums[r].finish(ranges[r].start, ranges[r].end, sliding_flags));

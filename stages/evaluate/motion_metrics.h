@@ -44,6 +44,7 @@ struct RangeMetrics {
   double mean_kinetic_energy = kNone;  // J
   double mean_power = kNone;           // W/kg
   double foot_sliding_ratio = kNone;   // NaN without feet
+  std::vector<double> power_by_velocity;  // [nu] W/kg, mean |τ_i u_i| / mass (whole span only)
 
   nlohmann::json ToJson() const;
 };

@@ -193,6 +193,19 @@ FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::Vecto
   return result;
 }
 
+void FrameIk::linearize(const std::vector<IkTarget>& targets, const Eigen::VectorXd& q, Eigen::VectorXd& residual,
+                        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& jacobian) {
+  Impl& impl = *impl_;
+  const int rows = impl.cost->num_residuals(), nu = impl.model.nu();
+  residual.resize(rows);
+  jacobian.resize(rows, nu);
+  impl.cost->setFrame(&targets, q);
+  impl.delta.setZero();
+  const double* parameters[] = {impl.delta.data()};
+  double* jacobians[] = {jacobian.data()};
+  impl.cost->Evaluate(parameters, residual.data(), jacobians);
+}
+
 void FrameIk::measureErrors(const std::vector<IkTarget>& targets, const Eigen::VectorXd& q,
                             std::vector<double>& position_error, std::vector<double>& angle_error) {
   Impl& impl = *impl_;

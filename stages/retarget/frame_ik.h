@@ -71,6 +71,11 @@ class FrameIk {
   // each joint moves at most its URDF velocity limit × step_time.
   FrameIkSummary solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time = 0.0);
 
+  // The frame's residual r and its Jacobian J (rows × nu, row-major) at q, with respect to a velocity-space
+  // step: the linearisation the trajectory refinement tracks.
+  void linearize(const std::vector<IkTarget>& targets, const Eigen::VectorXd& q, Eigen::VectorXd& residual,
+                 Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& jacobian);
+
   // Position error (m) and angle error (rad) of each task at q (NaN where the
   // target is inactive or has no such part).
   void measureErrors(const std::vector<IkTarget>& targets, const Eigen::VectorXd& q, std::vector<double>& position_error,

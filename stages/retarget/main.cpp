@@ -31,6 +31,10 @@ int main(int argc, char** argv) {
   app.add_option("--velocity-limit-scale", options.velocity_limit_scale,
                  "Bound each frame's joint step by this fraction of the URDF velocity limit (0: unbounded)")
       ->capture_default_str();
+  app.add_option("--smoothing", options.smoothing,
+                 "Trajectory refinement: weight of accelerations against tracking (1: 10 rad/s^2 costs like 1 mm); "
+                 "0 = per-frame IK only")
+      ->capture_default_str();
   app.add_option("--max-bridge", options.max_bridge,
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")
       ->capture_default_str();

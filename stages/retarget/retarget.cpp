@@ -14,6 +14,7 @@
 #include "stages/retarget/landmarks.h"
 #include "stages/retarget/marker_set.h"
 #include "stages/retarget/robot_map.h"
+#include "stages/retarget/trajectory_refinement.h"
 #include "stages/retarget/velocity_estimation.h"
 
 namespace syn {
@@ -106,6 +107,7 @@ bool RetargetOptions::IsValid(std::string* error) const {
   if (model.empty()) return fail("--model is required (a URDF file)");
   if (robot_map.empty()) return fail("--robot-map is required (manifests/robots/NAME.toml)");
   if (markerset.empty()) return fail("--markerset is required (manifests/markersets/NAME.toml)");
+  if (!(smoothing >= 0)) return fail("--smoothing must be >= 0 (0: no trajectory refinement)");
   if (!(velocity_limit_scale >= 0)) return fail("--velocity-limit-scale must be >= 0 (0: unbounded)");
   if (floating_base != "map" && floating_base != "auto" && floating_base != "free" && floating_base != "fixed") {
     return fail("--floating-base must be map, auto, free or fixed");
@@ -121,7 +123,7 @@ bool RetargetOptions::IsValid(std::string* error) const {
 
 nlohmann::json RetargetOptions::ToJson() const {
   return {{"floating_base", floating_base}, {"reference_time", reference_time}, {"scale", scale},
-          {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale}};
+          {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale}, {"smoothing", smoothing}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -132,7 +134,7 @@ std::string RetargetSummary::BriefReport() const {
       << median_angle_error[0] * 180 / M_PI << "/" << p95_angle_error[0] * 180 / M_PI << " deg, "
       << "P2 " << median_position_error[1] * 1000 << "/" << p95_position_error[1] * 1000 << " mm "
       << median_angle_error[1] * 180 / M_PI << "/" << p95_angle_error[1] * 180 / M_PI << " deg; worst joint step "
-      << worst_joint_step << " rad (" << worst_joint_step_name << "); IK " << ik_seconds << " s, " << mean_ik_iterations << " iterations/frame";
+      << worst_joint_step << " rad (" << worst_joint_step_name << "); IK " << ik_seconds << " s, " << mean_ik_iterations << " iterations/frame; refinement " << refinement_seconds << " s";
   return out.str();
 }
 
@@ -210,14 +212,31 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
     q_ref[found - joint_names.begin()] = value;
   }
   Workspace workspace(model);
-  if (model.hasFreeBase() && !map.feet.empty()) {
-    workspace.setQ(q_ref);
-    double lowest = std::numeric_limits<double>::infinity();
-    for (const RobotFoot& foot : map.feet) {
-      const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
-      for (const auto& point : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(point[0], point[1], point[2])).z());
+  if (!map.feet.empty()) {
+    auto lowest_sole = [&](const Eigen::VectorXd& q) {
+      workspace.setQ(q);
+      double lowest = std::numeric_limits<double>::infinity();
+      for (const RobotFoot& foot : map.feet) {
+        const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
+        for (const auto& point : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(point[0], point[1], point[2])).z());
+      }
+      return lowest;
+    };
+    const double lowest = lowest_sole(q_ref);
+    if (model.hasFreeBase()) {
+      q_ref[6] -= lowest;
+    } else {
+      // A virtual base chain (HRP-4C): lower the prismatic joint that moves the robot straight up.
+      for (const ModelJoint& joint : model.joints()) {
+        if (joint.type != "prismatic" || model.actuatedVelocities()[static_cast<size_t>(joint.u_index)]) continue;
+        Eigen::VectorXd raised = q_ref;
+        raised[joint.q_index] += 1.0;
+        if (std::abs(lowest_sole(raised) - lowest - 1.0) < 1e-9) {
+          q_ref[joint.q_index] -= lowest;
+          break;
+        }
+      }
     }
-    q_ref[6] -= lowest;
   }
   workspace.setQ(q_ref);
   std::vector<Eigen::Isometry3d> link_reference;
@@ -288,6 +307,7 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
 
   std::array<std::vector<double>, 3> position_by_level, angle_by_level;
   std::vector<int64_t> bridged;
+  std::vector<std::vector<IkTarget>> frame_targets(static_cast<size_t>(frames));
   Eigen::VectorXd q = q_ref;
   double last_solved_time = std::nan("");  // the first solve may travel from q_ref freely
   const auto start = std::chrono::steady_clock::now();
@@ -321,25 +341,37 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
                                                                : 0.0;
       report.mean_ik_iterations += ik.solve(targets, q, step_time).iterations;
       last_solved_time = motion.time_s[static_cast<size_t>(t)];
-      ik.measureErrors(targets, q, position_error, angle_error);
-      for (size_t i = 0; i < task_count; ++i) {
-        motion.landmark_error[(static_cast<size_t>(t) * task_count + i) * 2] = position_error[i];
-        motion.landmark_error[(static_cast<size_t>(t) * task_count + i) * 2 + 1] = angle_error[i];
-        position_by_level[static_cast<size_t>(task_priority[i] - 1)].push_back(position_error[i]);
-        angle_by_level[static_cast<size_t>(task_priority[i] - 1)].push_back(angle_error[i]);
-      }
+      frame_targets[static_cast<size_t>(t)] = targets;
     }
     std::copy(q.data(), q.data() + nq, motion.q.begin() + t * nq);
   }
   report.ik_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report.mean_ik_iterations /= static_cast<double>(std::max<int64_t>(1, frames - static_cast<int64_t>(bridged.size())));
+  BridgeGaps(model, motion.time_s, bridged, options.max_bridge, markers_path, motion.q);
+  const auto refine_start = std::chrono::steady_clock::now();
+  RefinementOptions refinement;
+  refinement.smoothing = options.smoothing;
+  RefineTrajectory(ik, model, frame_targets, motion.time_s, motion.q, refinement);
+  report.refinement_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - refine_start).count();
+  // Landmark errors of the final trajectory.
+  for (int64_t t = 0; t < frames; ++t) {
+    const std::vector<IkTarget>& frame = frame_targets[static_cast<size_t>(t)];
+    if (frame.empty()) continue;
+    q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
+    ik.measureErrors(frame, q, position_error, angle_error);
+    for (size_t i = 0; i < task_count; ++i) {
+      motion.landmark_error[(static_cast<size_t>(t) * task_count + i) * 2] = position_error[i];
+      motion.landmark_error[(static_cast<size_t>(t) * task_count + i) * 2 + 1] = angle_error[i];
+      position_by_level[static_cast<size_t>(task_priority[i] - 1)].push_back(position_error[i]);
+      angle_by_level[static_cast<size_t>(task_priority[i] - 1)].push_back(angle_error[i]);
+    }
+  }
   for (size_t level = 0; level < 3; ++level) {
     report.median_position_error[level] = Percentile(position_by_level[level], 0.5);
     report.p95_position_error[level] = Percentile(position_by_level[level], 0.95);
     report.median_angle_error[level] = Percentile(angle_by_level[level], 0.5);
     report.p95_angle_error[level] = Percentile(angle_by_level[level], 0.95);
   }
-  BridgeGaps(model, motion.time_s, bridged, options.max_bridge, markers_path, motion.q);
 
   // Velocities, accelerations and the torques that produce them.
   EstimateVelocities(model, motion.time_s, motion.q, motion.u, motion.udot);

@@ -29,6 +29,8 @@ struct RetargetOptions {
   // the previous solved frame (0 = unbounded): the robot cannot follow a target faster than its motors,
   // and the IK cannot jump to another branch of its solutions between two frames.
   double velocity_limit_scale = 1.0;
+  // Weight of accelerations in the trajectory refinement (trajectory_refinement.h); 0 = per-frame IK only.
+  double smoothing = 1.0;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;
@@ -44,6 +46,7 @@ struct RetargetSummary {
   double worst_joint_step = 0.0;        // largest per-frame |Δq| of any joint (rad)
   std::string worst_joint_step_name;
   double ik_seconds = 0.0;
+  double refinement_seconds = 0.0;
   double mean_ik_iterations = 0.0;
   std::vector<std::string> notes;
 
