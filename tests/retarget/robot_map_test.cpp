@@ -93,5 +93,18 @@ TEST(RobotMap, Hrp4cNamesExistInThePapersRobot) {
   EXPECT_FALSE(model.hasFreeBase());  // its own virtual base chain
 }
 
+TEST(RobotMap, H1MapNamesExistAndItsArmsAreFixed) {
+  SYN_REQUIRE_SHARED("robots/unitree/h1.urdf");
+  const std::string urdf = testing::SharedPath("robots/unitree/h1.urdf");
+  const Model model = Model::Load(urdf);
+  const RobotMap map = LoadRobotMap(testing::SourcePath("manifests/robots/h1.toml"));
+  const auto& names = model.coordinateNames();
+  EXPECT_NO_THROW(CheckRobotMapNames(
+      map, [&](const std::string& link) { return model.findLinkIndex(link) >= 0; },
+      [&](const std::string& joint) { return std::find(names.begin(), names.end(), joint) != names.end(); }, "H1"));
+  EXPECT_TRUE(model.hasFreeBase());
+  EXPECT_EQ(model.nu(), 16);  // 6 base + 10 leg joints: the arms are fixed in this URDF
+}
+
 }  // namespace
 }  // namespace syn
