@@ -13,6 +13,17 @@ double BaseYaw(const double* quaternion_wxyz) {
   return std::atan2(matrix(1, 0), matrix(0, 0));
 }
 
+void MakeBaseQuaternionsContinuous(std::vector<double>& q, int64_t nq) {
+  const int64_t frames = static_cast<int64_t>(q.size()) / nq;
+  for (int64_t t = 1; t < frames; ++t) {
+    double* now = &q[static_cast<size_t>(t * nq)];
+    const double* before = now - nq;
+    if (now[0] * before[0] + now[1] * before[1] + now[2] * before[2] + now[3] * before[3] < 0) {
+      for (int i = 0; i < 4; ++i) now[i] = -now[i];
+    }
+  }
+}
+
 void RotateBaseVelocities(double yaw, double* u) {
   const double c = std::cos(yaw), s = std::sin(yaw);
   for (int block = 0; block < 2; ++block) {

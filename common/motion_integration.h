@@ -11,6 +11,9 @@
 // with it.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include <Eigen/Core>
 
 namespace syn {
@@ -19,6 +22,10 @@ enum class BaseVelocityFrame { kGround, kHeading };
 
 // Yaw (rad) of the base orientation quaternion (w, x, y, z): the heading of its X axis in the ground plane.
 [[nodiscard]] double BaseYaw(const double* quaternion_wxyz);
+
+// A quaternion and its negative are one rotation: flips base quaternions (the first four entries of each
+// [T, nq] row-major row) so that neighbours agree in sign, as interpolating them needs.
+void MakeBaseQuaternionsContinuous(std::vector<double>& q, int64_t nq);
 
 // Rotates the six base velocities of u (angular, linear) about Z by `yaw` in place.
 void RotateBaseVelocities(double yaw, double* u);

@@ -317,13 +317,7 @@ Eigen::VectorXd Composer::StartPose(const ComposeScript& script, const LibraryRe
   }
   const bool free_base = motion.nq() == motion.nu() + 1;
   std::vector<double> q = motion.q;
-  for (int64_t t = 1; free_base && t < motion.frames(); ++t) {  // one sign per quaternion before interpolating
-    double* now = &q[static_cast<size_t>(t * motion.nq())];
-    const double* before = now - motion.nq();
-    if (now[0] * before[0] + now[1] * before[1] + now[2] * before[2] + now[3] * before[3] < 0) {
-      for (int i = 0; i < 4; ++i) now[i] = -now[i];
-    }
-  }
+  if (free_base) MakeBaseQuaternionsContinuous(q, motion.nq());
   Eigen::VectorXd pose(motion.nq());
   CubicSpline(motion.time_s, q, motion.nq()).evaluate(script.start_time, pose.data(), nullptr);
   if (free_base) pose.head<4>().normalize();

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "common/cubic_spline.h"
+#include "common/motion_integration.h"
 
 namespace syn {
 namespace {
@@ -75,17 +76,8 @@ std::vector<RangeMetrics> MotionEvaluator::evaluate(const std::vector<double>& t
   if (frames < 2 || static_cast<int64_t>(q.size()) != frames * nq || static_cast<int64_t>(u.size()) != frames * nu) {
     throw std::invalid_argument("MotionEvaluator: need at least 2 frames of q [T, nq] and u [T, nu]");
   }
-  // A quaternion and its negative are one rotation: make neighbours agree in sign before interpolating.
   std::vector<double> q_continuous = q;
-  if (model.hasFreeBase()) {
-    for (int64_t t = 1; t < frames; ++t) {
-      double* now = &q_continuous[static_cast<size_t>(t * nq)];
-      const double* before = now - nq;
-      if (now[0] * before[0] + now[1] * before[1] + now[2] * before[2] + now[3] * before[3] < 0) {
-        for (int i = 0; i < 4; ++i) now[i] = -now[i];
-      }
-    }
-  }
+  if (model.hasFreeBase()) MakeBaseQuaternionsContinuous(q_continuous, nq);
   const CubicSpline q_spline(time, std::move(q_continuous), nq);
   const CubicSpline u_spline(time, u, nu);
 

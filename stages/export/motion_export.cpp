@@ -9,6 +9,7 @@
 #include "common/cubic_spline.h"
 #include "common/error.h"
 #include "common/file_bytes.h"
+#include "common/motion_integration.h"
 
 namespace syn {
 namespace {
@@ -37,15 +38,7 @@ MotionData ResampleUniformly(const MotionData& motion, double rate) {
   if (motion.frames() < 2) throw DataError(Location::InFile("motion"), "needs at least 2 frames to resample");
   const int64_t nq = motion.nq();
   std::vector<double> q = motion.q;
-  if (FreeBase(motion)) {
-    for (int64_t t = 1; t < motion.frames(); ++t) {
-      double* now = &q[static_cast<size_t>(t * nq)];
-      const double* before = now - nq;
-      if (now[0] * before[0] + now[1] * before[1] + now[2] * before[2] + now[3] * before[3] < 0) {
-        for (int i = 0; i < 4; ++i) now[i] = -now[i];
-      }
-    }
-  }
+  if (FreeBase(motion)) MakeBaseQuaternionsContinuous(q, nq);
   const CubicSpline spline(motion.time_s, std::move(q), nq);
   MotionData result;
   result.coordinate_names = motion.coordinate_names;
