@@ -357,6 +357,19 @@ int Model::findLinkIndex(const std::string& link_name) const {
 
 // ---- Workspace ------------------------------------------------------------------
 
+// The state's q and u are views into one contiguous array; copy in bulk when
+// they are, element by element (an out-of-line call each) when not.
+void CopyInto(const Eigen::VectorXd& from, SimTK::Vector& to) {
+  if (to.hasContiguousData()) {
+    Eigen::Map<Eigen::VectorXd>(to.updContiguousScalarData(), to.size()) = from.head(to.size());
+  } else {
+    for (int i = 0; i < to.size(); ++i) to[i] = from[i];
+  }
+}
+
+// A Free mobilizer's u: angular velocity (0..2), then the origin's linear velocity in ground (3..5).
+constexpr int kFreeBaseVerticalVelocity = 5;
+
 struct Workspace::Impl {
   const Model::Impl& model;
   SimTK::State state;
@@ -368,7 +381,7 @@ struct Workspace::Impl {
   // forces explicitly. Computed here from each body's mass and COM because
   // Force::Gravity's cache needs Stage::Dynamics, which would also evaluate
   // everything else.
-  SimTK::Vector_<SimTK::SpatialVec> gravity_forces;
+  SimTK::Vector_<SimTK::SpatialVec> gravity_forces, zero_body_forces;
   bool gravity_current = false;
 
   const SimTK::Vector_<SimTK::SpatialVec>& gravityForces() {
@@ -394,19 +407,21 @@ struct Workspace::Impl {
         scratch_out(model_in.nu, 0.0),
         zero_mobility_forces(model_in.nu, 0.0),
         jacobian(6, model_in.nu),
-        gravity_forces(model_in.matter.getNumBodies(), SimTK::SpatialVec(SimTK::Vec3(0), SimTK::Vec3(0))) {
+        gravity_forces(model_in.matter.getNumBodies(), SimTK::SpatialVec(SimTK::Vec3(0), SimTK::Vec3(0))),
+        zero_body_forces(model_in.matter.getNumBodies(), SimTK::SpatialVec(SimTK::Vec3(0), SimTK::Vec3(0))) {
     if (model.floating_base == FloatingBase::kFree) q[0] = 1.0;
     model.system.realizeModel(state);
     for (int i = 0; i < model.nq; ++i) state.updQ()[i] = q[i];
     model.system.realize(state, SimTK::Stage::Velocity);
   }
 
+  // SimTK::Vector's element access goes through an out-of-line helper per
+  // element; the scratch vectors own contiguous storage, so copy through it.
   void toScratch(const Eigen::VectorXd& v) {
-    for (int i = 0; i < model.nu; ++i) scratch_in[i] = v[i];
+    Eigen::Map<Eigen::VectorXd>(scratch_in.updContiguousScalarData(), model.nu) = v.head(model.nu);
   }
   void fromScratch(Eigen::VectorXd& out) const {
-    out.resize(model.nu);
-    for (int i = 0; i < model.nu; ++i) out[i] = scratch_out[i];
+    out = Eigen::Map<const Eigen::VectorXd>(scratch_out.getContiguousScalarData(), model.nu);
   }
 };
 
@@ -422,8 +437,7 @@ void Workspace::setQ(const Eigen::VectorXd& q) {
     const double norm = impl.q.head<4>().norm();
     if (norm > 0) impl.q.head<4>() /= norm;
   }
-  SimTK::Vector& state_q = impl.state.updQ();
-  for (int i = 0; i < impl.model.nq; ++i) state_q[i] = impl.q[i];
+  CopyInto(impl.q, impl.state.updQ());
   impl.model.system.realize(impl.state, SimTK::Stage::Position);
   impl.gravity_current = false;
 }
@@ -431,8 +445,7 @@ void Workspace::setQ(const Eigen::VectorXd& q) {
 void Workspace::setU(const Eigen::VectorXd& u) {
   Impl& impl = *impl_;
   impl.u = u;
-  SimTK::Vector& state_u = impl.state.updU();
-  for (int i = 0; i < impl.model.nu; ++i) state_u[i] = u[i];
+  CopyInto(u, impl.state.updU());
   impl.model.system.realize(impl.state, SimTK::Stage::Velocity);
 }
 
@@ -534,9 +547,21 @@ double Workspace::calcKineticEnergy() { return impl_->model.matter.calcKineticEn
 void Workspace::calcInverseDynamics(const Eigen::VectorXd& udot, Eigen::VectorXd& tau) {
   Impl& impl = *impl_;
   impl.toScratch(udot);
-  impl.model.matter.calcResidualForceIgnoringConstraints(impl.state, impl.zero_mobility_forces,
-                                                         impl.gravityForces(),
-                                                         impl.scratch_in, impl.scratch_out);
+  if (impl.model.floating_base == FloatingBase::kFree) {
+    // Gravity on every body is the same as the ground accelerating upward by
+    // g. A Free mobilizer's linear velocities are in ground (its inboard
+    // frame is the ground frame), so adding g to the base's vertical
+    // acceleration moves every body by exactly that uniform acceleration, and
+    // saves building per-body gravity forces (a cache lookup per body).
+    // calcForwardDynamics keeps the explicit forces: the tests check one
+    // against the other.
+    impl.scratch_in[kFreeBaseVerticalVelocity] += impl.model.gravity;
+    impl.model.matter.calcResidualForceIgnoringConstraints(impl.state, impl.zero_mobility_forces, impl.zero_body_forces,
+                                                           impl.scratch_in, impl.scratch_out);
+  } else {
+    impl.model.matter.calcResidualForceIgnoringConstraints(impl.state, impl.zero_mobility_forces, impl.gravityForces(),
+                                                           impl.scratch_in, impl.scratch_out);
+  }
   impl.fromScratch(tau);
 }
 

@@ -1,5 +1,6 @@
 #include "stages/retarget/frame_ik.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <ceres/ceres.h>
@@ -16,29 +17,46 @@ Eigen::Vector3d RotationError(const Eigen::Matrix3d& current, const Eigen::Quate
   return difference.angle() * difference.axis();
 }
 
+// d log(E)/dω for E = R R*ᵀ and a world-frame angular velocity ω of R: the
+// inverse of SO(3)'s left Jacobian at φ = log(E). It is I only near φ = 0;
+// unreachable targets leave errors of tens of degrees, where I is wrong.
+Eigen::Matrix3d LogJacobian(const Eigen::Vector3d& phi) {
+  const double angle = phi.norm();
+  Eigen::Matrix3d cross;
+  cross << 0, -phi.z(), phi.y(), phi.z(), 0, -phi.x(), -phi.y(), phi.x(), 0;
+  // 1/θ² − (1 + cos θ)/(2 θ sin θ); below 1e-3 rad its series 1/12 + θ²/720 (the closed form cancels).
+  const double c = angle < 1e-3 ? 1.0 / 12.0 + angle * angle / 720.0
+                                : 1.0 / (angle * angle) - (1.0 + std::cos(angle)) / (2.0 * angle * std::sin(angle));
+  return Eigen::Matrix3d::Identity() - 0.5 * cross + c * cross * cross;
+}
+
 // The least-squares residual of one frame, evaluated at q = q0 ⊕ δ.
 class TrackingCost final : public ceres::CostFunction {
  public:
   TrackingCost(const Model& model, const std::vector<IkTask>& tasks, const Eigen::VectorXd& q_reference,
-               double posture_weight, double continuity_weight)
+               double posture_weight, double continuity_weight, double acceleration_weight)
       : model_(model),
         workspace_(model),
         tasks_(tasks),
         q_reference_(q_reference),
         posture_weight_(posture_weight),
         continuity_weight_(continuity_weight),
+        acceleration_weight_(acceleration_weight),
         first_joint_u_(model.hasFreeBase() ? 6 : 0),
         q_offset_(model.hasFreeBase() ? 1 : 0),
         q0_(model.nq()),
         q_(model.nq()),
         jacobian_(6, model.nu()) {
-    set_num_residuals(static_cast<int>(tasks.size()) * kRowsPerTask + 2 * (model.nu() - first_joint_u_));
+    set_num_residuals(static_cast<int>(tasks.size()) * kRowsPerTask + model.nu() - first_joint_u_);
     mutable_parameter_block_sizes()->push_back(model.nu());
   }
 
-  void setFrame(const std::vector<IkTarget>* targets, const Eigen::VectorXd& q0) {
+  // predicted_step: the step δ a constant velocity would take this frame (the acceleration term pulls
+  // toward it), or nullptr for none (the first frame).
+  void setFrame(const std::vector<IkTarget>* targets, const Eigen::VectorXd& q0, const Eigen::VectorXd* predicted_step = nullptr) {
     targets_ = targets;
     q0_ = q0;
+    predicted_step_ = predicted_step;
   }
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
@@ -59,27 +77,38 @@ class TrackingCost final : public ceres::CostFunction {
       const bool use_position = task.type != TaskType::kOrientation;
       const bool use_orientation = task.type != TaskType::kPosition && target.has_orientation;
       if (use_position) r.segment<3>(row) = task.weight * (pose.translation() - target.position);
-      if (use_orientation) r.segment<3>(row + 3) = task.weight * RotationError(pose.linear(), target.orientation);
+      Eigen::Vector3d rotation_error = Eigen::Vector3d::Zero();
+      if (use_orientation) {
+        rotation_error = RotationError(pose.linear(), target.orientation);
+        r.segment<3>(row + 3) = task.weight * rotation_error;
+      }
       if (!J) continue;
       workspace_.calcFrameJacobian(task.link, Eigen::Vector3d::Zero(), jacobian_);
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jacobian(J, num_residuals(), nu);
       // Frame Jacobian rows: angular velocity (0..2), then linear velocity of the link origin (3..5).
-      // d log(R R*ᵀ) ≈ ω for the small steps of one frame.
       if (use_position) jacobian.block(row, 0, 3, nu) = task.weight * jacobian_.bottomRows<3>();
-      if (use_orientation) jacobian.block(row + 3, 0, 3, nu) = task.weight * jacobian_.topRows<3>();
+      if (use_orientation) {
+        jacobian.block(row + 3, 0, 3, nu) = task.weight * LogJacobian(rotation_error) * jacobian_.topRows<3>();
+      }
     }
-    const int posture_row = static_cast<int>(tasks_.size()) * kRowsPerTask;
+    // Three per-joint terms, all linear in δ on one coordinate, so they add up to one row each:
+    //   posture       w_p (q0 + δ − q_ref)   toward the reference stance,
+    //   velocity      w_v δ                  toward staying where the previous frame was,
+    //   acceleration  w_a (δ − δ_predicted)  toward the previous frame's velocity.
+    // The last two keep joints the tasks leave free (a wrist roll when only the hand's position is
+    // known, a shoulder yaw under a hand pose) from chattering between equally good solutions; the
+    // acceleration term does it without the lag a velocity term alone puts on a moving joint.
+    // Σ w_i² (δ − t_i)² = w² (δ − δ*)² + const with w² = Σ w_i², δ* = Σ w_i² t_i / w².
+    const int regularisation_row = static_cast<int>(tasks_.size()) * kRowsPerTask;
+    const double posture2 = posture_weight_ * posture_weight_, velocity2 = continuity_weight_ * continuity_weight_;
+    const double acceleration2 = predicted_step_ ? acceleration_weight_ * acceleration_weight_ : 0.0;
+    const double combined2 = posture2 + velocity2 + acceleration2, combined = std::sqrt(combined2);
     for (int u = first_joint_u_; u < nu; ++u) {
       const int q_index = u + q_offset_;
-      r[posture_row + u - first_joint_u_] = posture_weight_ * (q_[q_index] - q_reference_[q_index]);
-      if (J) J[static_cast<size_t>(posture_row + u - first_joint_u_) * nu + u] = posture_weight_;
-    }
-    // Continuity: joints the tasks leave free (a wrist roll when only the hand's position is known) stay
-    // where the previous frame had them instead of wandering to wherever the posture term is flattest.
-    const int continuity_row = posture_row + nu - first_joint_u_;
-    for (int u = first_joint_u_; u < nu; ++u) {
-      r[continuity_row + u - first_joint_u_] = continuity_weight_ * delta[u];
-      if (J) J[static_cast<size_t>(continuity_row + u - first_joint_u_) * nu + u] = continuity_weight_;
+      const double predicted = predicted_step_ ? (*predicted_step_)[u] : 0.0;
+      const double target = (posture2 * (q_reference_[q_index] - q0_[q_index]) + acceleration2 * predicted) / combined2;
+      r[regularisation_row + u - first_joint_u_] = combined * (delta[u] - target);
+      if (J) J[static_cast<size_t>(regularisation_row + u - first_joint_u_) * nu + u] = combined;
     }
     return true;
   }
@@ -91,6 +120,8 @@ class TrackingCost final : public ceres::CostFunction {
   const Eigen::VectorXd& q_reference_;
   double posture_weight_;
   double continuity_weight_;
+  double acceleration_weight_;
+  const Eigen::VectorXd* predicted_step_ = nullptr;
   int first_joint_u_;
   int q_offset_;
   const std::vector<IkTarget>* targets_ = nullptr;
@@ -122,35 +153,103 @@ struct FrameIk::Impl {
   std::vector<IkTask> tasks;
   Eigen::VectorXd q_reference;
   FrameIkOptions options;
+  int first_joint = 0, q_offset = 0;
   Eigen::VectorXd delta;
-  Eigen::VectorXd lower, upper;  // joint limits per u index (±inf for the base)
-  TrackingCost* cost = nullptr;  // owned by problem
+  Eigen::VectorXd lower, upper;              // joint limits per u index (±inf for the base)
+  Eigen::VectorXd step_lower, step_upper;    // this frame's bounds on δ
+  TrackingCost* cost = nullptr;              // owned by problem
   ceres::Problem problem;
   ceres::Solver::Options solver_options;
   Workspace workspace;
+  // Active set: the joints held at a bound for this frame, and their manifold.
+  std::vector<int> held;
+  std::vector<uint8_t> held_mask;
+  Eigen::VectorXd last_step;       // the previous solve's δ
+  Eigen::VectorXd predicted_step;  // this solve's constant-velocity prediction
+  bool has_last_step = false;
+  std::unique_ptr<ceres::SubsetManifold> held_manifold;
+  Eigen::VectorXd residual, gradient;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jacobian;
+
+  static ceres::Problem::Options ProblemOptions() {
+    ceres::Problem::Options options;
+    options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // held_manifold owns it
+    return options;
+  }
 
   Impl(const Model& model_in, std::vector<IkTask> tasks_in, const Eigen::VectorXd& q_ref, double posture_weight,
        const FrameIkOptions& options_in)
       : model(model_in), tasks(std::move(tasks_in)), q_reference(q_ref), options(options_in),
-        delta(Eigen::VectorXd::Zero(model_in.nu())), workspace(model_in) {
-    cost = new TrackingCost(model, tasks, q_reference, posture_weight, options.continuity_weight);
+        first_joint(model_in.hasFreeBase() ? 6 : 0), q_offset(model_in.hasFreeBase() ? 1 : 0),
+        delta(Eigen::VectorXd::Zero(model_in.nu())), problem(ProblemOptions()), workspace(model_in) {
+    cost = new TrackingCost(model, tasks, q_reference, posture_weight, options.continuity_weight,
+                            options.acceleration_weight);
     problem.AddResidualBlock(cost, nullptr, delta.data());
-    const int offset = model.hasFreeBase() ? 1 : 0;
-    const int first_joint = model.hasFreeBase() ? 6 : 0;
     lower = Eigen::VectorXd::Constant(model.nu(), -std::numeric_limits<double>::infinity());
     upper = Eigen::VectorXd::Constant(model.nu(), std::numeric_limits<double>::infinity());
     for (int u = first_joint; u < model.nu(); ++u) {
-      lower[u] = model.qLower()[u + offset];
-      upper[u] = model.qUpper()[u + offset];
+      lower[u] = model.qLower()[u + q_offset];
+      upper[u] = model.qUpper()[u + q_offset];
     }
-    solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+    step_lower = lower, step_upper = upper;
+    held_mask.assign(static_cast<size_t>(model.nu()), 0);
+    last_step = predicted_step = Eigen::VectorXd::Zero(model.nu());
     solver_options.max_num_iterations = options.max_iterations;
+    solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
     solver_options.function_tolerance = options.function_tolerance;
     solver_options.gradient_tolerance = options.gradient_tolerance;
     solver_options.parameter_tolerance = options.parameter_tolerance;
     solver_options.logging_type = ceres::SILENT;
     solver_options.minimizer_progress_to_stdout = false;
     solver_options.num_threads = 1;
+  }
+
+  // ∇ ½‖r‖² with respect to δ at the current δ.
+  const Eigen::VectorXd& costGradient() {
+    const int rows = cost->num_residuals(), nu = model.nu();
+    residual.resize(rows);
+    jacobian.resize(rows, nu);
+    const double* parameters[] = {delta.data()};
+    double* jacobians[] = {jacobian.data()};
+    cost->Evaluate(parameters, residual.data(), jacobians);
+    gradient.noalias() = jacobian.transpose() * residual;
+    return gradient;
+  }
+
+  // One step of the active-set method for the box lo ≤ δ ≤ hi: a free joint that left its box is put
+  // back on the bound it crossed and held there; a held joint whose cost gradient points into the box is
+  // let go. True when the held set changed (solve again).
+  bool updateHeldJoints() {
+    bool changed = false, any_held = false;
+    for (int u = first_joint; u < model.nu(); ++u) {
+      if (held_mask[u]) {
+        any_held = true;
+        continue;
+      }
+      if (delta[u] < step_lower[u] || delta[u] > step_upper[u]) {
+        delta[u] = std::clamp(delta[u], step_lower[u], step_upper[u]);
+        held_mask[u] = 1;
+        changed = any_held = true;
+      }
+    }
+    if (!changed && any_held) {
+      // Release only when nothing new was clamped, so a release is judged at a point where the rest is solved.
+      const Eigen::VectorXd& g = costGradient();
+      for (int u = first_joint; u < model.nu(); ++u) {
+        if (!held_mask[u]) continue;
+        const bool inward = delta[u] <= step_lower[u] ? g[u] < 0 : g[u] > 0;
+        if (inward) held_mask[u] = 0, changed = true;
+      }
+    }
+    if (!changed) return false;
+    held.clear();
+    for (int u = first_joint; u < model.nu(); ++u) {
+      if (held_mask[u]) held.push_back(u);
+    }
+    problem.SetManifold(delta.data(), nullptr);
+    held_manifold = held.empty() ? nullptr : std::make_unique<ceres::SubsetManifold>(model.nu(), held);
+    problem.SetManifold(delta.data(), held_manifold.get());
+    return true;
   }
 };
 
@@ -162,36 +261,78 @@ FrameIk::~FrameIk() = default;
 
 FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
   Impl& impl = *impl_;
-  const int offset = impl.model.hasFreeBase() ? 1 : 0;
-  const int first_joint = impl.model.hasFreeBase() ? 6 : 0;
   impl.delta.setZero();
   // Bounds are relative to the warm start; keep the start itself feasible.
-  for (int u = first_joint; u < impl.model.nu(); ++u) {
-    const double value = q[u + offset];
-    q[u + offset] = std::min(std::max(value, impl.lower[u]), impl.upper[u]);
-    double low = impl.lower[u] - q[u + offset], high = impl.upper[u] - q[u + offset];
+  for (int u = impl.first_joint; u < impl.model.nu(); ++u) {
+    const int q_index = u + impl.q_offset;
+    q[q_index] = std::clamp(q[q_index], impl.lower[u], impl.upper[u]);
+    double low = impl.lower[u] - q[q_index], high = impl.upper[u] - q[q_index];
     const double reach = step_time * impl.model.uLimit()[u];
     if (step_time > 0 && std::isfinite(reach)) {
       low = std::max(low, -reach);
       high = std::min(high, reach);
     }
-    // Ceres keeps bounds between solves: reset them every frame (±max() stands for none).
-    impl.problem.SetParameterLowerBound(impl.delta.data(), u, std::isfinite(low) ? low : -std::numeric_limits<double>::max());
-    impl.problem.SetParameterUpperBound(impl.delta.data(), u, std::isfinite(high) ? high : std::numeric_limits<double>::max());
+    impl.step_lower[u] = low, impl.step_upper[u] = high;
   }
-  impl.cost->setFrame(&targets, q);
+  // The constant-velocity prediction (the previous frame's step, inside this frame's box) anchors the
+  // acceleration term and is where the solver starts.
+  const bool predict = impl.has_last_step && impl.options.acceleration_weight > 0;
+  if (predict) {
+    for (int u = 0; u < impl.model.nu(); ++u) {
+      impl.predicted_step[u] = std::clamp(impl.last_step[u], impl.step_lower[u], impl.step_upper[u]);
+    }
+    impl.delta = impl.predicted_step;
+  }
+  impl.cost->setFrame(&targets, q, predict ? &impl.predicted_step : nullptr);
+  // Joint limits (and the per-frame velocity bound) are a box on δ. Ceres's own bounds project each
+  // Levenberg–Marquardt step onto the box and add a line search per step; when a joint presses on its
+  // limit that crawls (tens of iterations for a fraction of the cost), because the step is computed as
+  // if the joint could move. So the box is enforced by an active set around unconstrained solves: a
+  // joint that would leave the box is held on its bound (a SubsetManifold) and the others re-solved.
+  // Joints that start on a bound and are pushed outward are held from the start.
+  std::fill(impl.held_mask.begin(), impl.held_mask.end(), 0);
+  bool start_on_bound = false;
+  for (int u = impl.first_joint; u < impl.model.nu(); ++u) {
+    start_on_bound = start_on_bound || impl.step_lower[u] >= 0 || impl.step_upper[u] <= 0;
+  }
+  if (start_on_bound) {
+    const Eigen::VectorXd& g = impl.costGradient();
+    for (int u = impl.first_joint; u < impl.model.nu(); ++u) {
+      impl.held_mask[u] = (impl.step_lower[u] >= 0 && g[u] > 0) || (impl.step_upper[u] <= 0 && g[u] < 0);
+    }
+  }
+  impl.held.clear();
+  for (int u = impl.first_joint; u < impl.model.nu(); ++u) {
+    if (impl.held_mask[u]) impl.held.push_back(u);
+  }
+  impl.problem.SetManifold(impl.delta.data(), nullptr);
+  impl.held_manifold = impl.held.empty() ? nullptr : std::make_unique<ceres::SubsetManifold>(impl.model.nu(), impl.held);
+  impl.problem.SetManifold(impl.delta.data(), impl.held_manifold.get());
+
+  FrameIkSummary result;
   ceres::Solver::Summary summary;
-  ceres::Solve(impl.solver_options, &impl.problem, &summary);
+  constexpr int kMaxActiveSetRounds = 8;
+  for (int round = 0; round < kMaxActiveSetRounds; ++round) {
+    ceres::Solve(impl.solver_options, &impl.problem, &summary);
+    if (round == 0) result.initial_cost = summary.initial_cost;
+    result.iterations += static_cast<int>(summary.iterations.size()) - 1;  // iteration 0 only evaluates
+    if (!impl.updateHeldJoints()) break;
+  }
+  // A last clamp: after the final round every free joint is inside the box up to rounding.
+  for (int u = impl.first_joint; u < impl.model.nu(); ++u) {
+    impl.delta[u] = std::clamp(impl.delta[u], impl.step_lower[u], impl.step_upper[u]);
+  }
+  impl.last_step = impl.delta;
+  impl.has_last_step = true;
   Eigen::VectorXd solved(q.size());
   ApplyVelocityStep(impl.model, q, impl.delta, solved);
   q = solved;
-  FrameIkSummary result;
-  result.iterations = static_cast<int>(summary.iterations.size());
-  result.initial_cost = summary.initial_cost;
   result.final_cost = summary.final_cost;
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   return result;
 }
+
+void FrameIk::forgetHistory() { impl_->has_last_step = false; }
 
 void FrameIk::linearize(const std::vector<IkTarget>& targets, const Eigen::VectorXd& q, Eigen::VectorXd& residual,
                         Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& jacobian) {

@@ -3,10 +3,11 @@
 //
 // Minimises, over q near the previous frame's solution (warm start),
 //   Σ_tasks ‖w_i (p_i(q) − p_i*)‖² + ‖w_i log(R_i(q) R_i*ᵀ)‖²  +  ‖w_p (q_joints − q_ref)‖²
-//   + ‖w_c (q_joints − q_previous)‖²
-// with Ceres (Levenberg–Marquardt, dense normal Cholesky), joint limits as
-// parameter bounds, and analytic Jacobians from the model (no autodiff
-// through Simbody). The unknown is a velocity-space step δ (size nu) applied
+//   + ‖w_c δ‖² + ‖w_a (δ − δ_previous)‖²,   δ = q_joints − q_previous
+// with Ceres (Levenberg–Marquardt, dense normal Cholesky), joint limits (and
+// the per-frame velocity bound) as bounds on δ enforced by an active set
+// around the solves (FrameIk::solve says why), and analytic Jacobians from
+// the model (no autodiff through Simbody). The unknown is a velocity-space step δ (size nu) applied
 // to the warm start, so a free base's quaternion stays on its manifold:
 // q = q_prev ⊕ δ rotates the base by exp(δ_ω) in the ground frame.
 #pragma once
@@ -39,12 +40,17 @@ struct IkTarget {
 };
 
 struct FrameIkOptions {
-  // Weight of ‖q_joints − q_previous‖ (per rad): small, so it only settles
-  // joints no task constrains; tracked joints move as the targets say.
+  // Weight of ‖δ‖ (per rad), δ = this frame's joint step: small, so it only settles joints no task
+  // constrains; tracked joints move as the targets say.
   double continuity_weight = 0.01;
+  // Weight of ‖δ − δ_previous‖ (per rad): a discrete acceleration penalty that keeps joints the tasks
+  // leave nearly free (shoulder yaw and wrist roll under a hand pose) from chattering between equally
+  // good solutions, without lagging a smoothly moving joint. The previous step is also where the solver
+  // starts. It applies from the second consecutive solve (see FrameIk::forgetHistory).
+  double acceleration_weight = 0.1;
   int max_iterations = 50;
   // Stop when the cost changes by less than this fraction (Ceres function_tolerance).
-  double function_tolerance = 1e-9;
+  double function_tolerance = 1e-5;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-9;
 };
@@ -70,6 +76,10 @@ class FrameIk {
   // solution on exit. `targets` has one entry per task. With step_time > 0
   // each joint moves at most its URDF velocity limit × step_time.
   FrameIkSummary solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time = 0.0);
+
+  // Solves are taken to be on consecutive frames, each warm-started from the previous solution; call
+  // this when the next one is not (after a gap), so no previous step is assumed.
+  void forgetHistory();
 
   // The frame's residual r and its Jacobian J (rows × nu, row-major) at q, with respect to a velocity-space
   // step: the linearisation the trajectory refinement tracks.

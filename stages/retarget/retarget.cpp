@@ -335,6 +335,7 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
     }
     if (!any) {
       bridged.push_back(t);
+      ik.forgetHistory();
     } else {
       const double step_time = std::isfinite(last_solved_time) ? options.velocity_limit_scale *
                                                                      (motion.time_s[static_cast<size_t>(t)] - last_solved_time)

@@ -47,13 +47,14 @@ void FrameIkG1(benchmark::State& state) {
   G1Targets g1;
   const double posture = g1.map.priority_weights[2] * g1.map.posture_weight;
   FrameIk ik(g1.model, g1.tasks, g1.model.defaultQ(), posture);
-  int64_t frames = 0;
+  int64_t frames = 0, iterations = 0;
   for (auto _ : state) {
     Eigen::VectorXd q = g1.trajectory[0];
-    for (const auto& frame : g1.targets) ik.solve(frame, q);
+    for (const auto& frame : g1.targets) iterations += ik.solve(frame, q).iterations;
     frames += static_cast<int64_t>(g1.targets.size());
   }
   state.counters["frames_per_second"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
+  state.counters["iterations_per_frame"] = static_cast<double>(iterations) / static_cast<double>(frames);
 }
 
 void InverseDynamicsG1(benchmark::State& state) {

@@ -60,7 +60,9 @@ TEST(TrajectoryRefinement, SmoothsRealRetargetingAndKeepsTracking) {
   std::cerr << "joint acceleration RMS " << raw_rms << " -> " << refined_rms << " rad/s^2; median P1 error "
             << 1000 * MedianPriorityOneError(raw_summary) << " -> " << 1000 * MedianPriorityOneError(refined_summary)
             << " mm\n";
-  EXPECT_LT(refined_rms, 0.65 * raw_rms);  // measured: 416 -> 217 rad/s^2 at the default smoothing
+  // Measured at the default smoothing: 385 -> 267 rad/s^2, median P1 41.0 -> 40.8 mm. (Before the per-frame
+  // IK had its acceleration term the raw IK was jerkier, 416 rad/s^2, and the refinement took more off it.)
+  EXPECT_LT(refined_rms, 0.75 * raw_rms);
   EXPECT_LT(MedianPriorityOneError(refined_summary), MedianPriorityOneError(raw_summary) + 0.002);
   // The refinement keeps the joint limits.
   const Model model = Model::Load(options.model);
