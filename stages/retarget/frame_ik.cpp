@@ -8,7 +8,6 @@
 namespace syn {
 namespace {
 
-constexpr int kRowsPerTask = 6;  // position (3) then orientation (3); unused rows stay zero
 
 // Rotation vector of R_current R_targetᵀ: the world-frame rotation that takes
 // the target orientation to the current one.
@@ -47,7 +46,14 @@ class TrackingCost final : public ceres::CostFunction {
         q0_(model.nq()),
         q_(model.nq()),
         jacobian_(6, model.nu()) {
-    set_num_residuals(static_cast<int>(tasks.size()) * kRowsPerTask + model.nu() - first_joint_u_);
+    // Rows: 3 for a position, 3 for an orientation, 6 for a pose (position first), then one per joint.
+    int rows = 0;
+    for (const IkTask& task : tasks) {
+      task_row_.push_back(rows);
+      rows += task.type == TaskType::kPose ? 6 : 3;
+    }
+    regularisation_row_ = rows;
+    set_num_residuals(rows + model.nu() - first_joint_u_);
     mutable_parameter_block_sizes()->push_back(model.nu());
   }
 
@@ -63,7 +69,12 @@ class TrackingCost final : public ceres::CostFunction {
     const int nu = model_.nu();
     const Eigen::Map<const Eigen::VectorXd> delta(parameters[0], nu);
     ApplyVelocityStep(model_, q0_, delta, q_);
-    workspace_.setQ(q_);
+    // Ceres evaluates an accepted point twice (cost, then Jacobian): realise each configuration once.
+    if (!realized_ || q_ != realized_q_) {
+      workspace_.setQ(q_);
+      realized_q_ = q_;
+      realized_ = true;
+    }
     Eigen::Map<Eigen::VectorXd> r(residuals, num_residuals());
     r.setZero();
     double* J = jacobians ? jacobians[0] : nullptr;
@@ -72,7 +83,8 @@ class TrackingCost final : public ceres::CostFunction {
       const IkTask& task = tasks_[i];
       const IkTarget& target = (*targets_)[i];
       if (!target.active || task.weight == 0.0) continue;
-      const int row = static_cast<int>(i) * kRowsPerTask;
+      const int row = task_row_[i];
+      const int orientation_row = task.type == TaskType::kPose ? row + 3 : row;
       const Eigen::Isometry3d pose = workspace_.findLinkPose(task.link);
       const bool use_position = task.type != TaskType::kOrientation;
       const bool use_orientation = task.type != TaskType::kPosition && target.has_orientation;
@@ -80,7 +92,7 @@ class TrackingCost final : public ceres::CostFunction {
       Eigen::Vector3d rotation_error = Eigen::Vector3d::Zero();
       if (use_orientation) {
         rotation_error = RotationError(pose.linear(), target.orientation);
-        r.segment<3>(row + 3) = task.weight * rotation_error;
+        r.segment<3>(orientation_row) = task.weight * rotation_error;
       }
       if (!J) continue;
       workspace_.calcFrameJacobian(task.link, Eigen::Vector3d::Zero(), jacobian_);
@@ -88,7 +100,7 @@ class TrackingCost final : public ceres::CostFunction {
       // Frame Jacobian rows: angular velocity (0..2), then linear velocity of the link origin (3..5).
       if (use_position) jacobian.block(row, 0, 3, nu) = task.weight * jacobian_.bottomRows<3>();
       if (use_orientation) {
-        jacobian.block(row + 3, 0, 3, nu) = task.weight * LogJacobian(rotation_error) * jacobian_.topRows<3>();
+        jacobian.block(orientation_row, 0, 3, nu) = task.weight * LogJacobian(rotation_error) * jacobian_.topRows<3>();
       }
     }
     // Three per-joint terms, all linear in δ on one coordinate, so they add up to one row each:
@@ -99,7 +111,7 @@ class TrackingCost final : public ceres::CostFunction {
     // known, a shoulder yaw under a hand pose) from chattering between equally good solutions; the
     // acceleration term does it without the lag a velocity term alone puts on a moving joint.
     // Σ w_i² (δ − t_i)² = w² (δ − δ*)² + const with w² = Σ w_i², δ* = Σ w_i² t_i / w².
-    const int regularisation_row = static_cast<int>(tasks_.size()) * kRowsPerTask;
+    const int regularisation_row = regularisation_row_;
     const double posture2 = posture_weight_ * posture_weight_, velocity2 = continuity_weight_ * continuity_weight_;
     const double acceleration2 = predicted_step_ ? acceleration_weight_ * acceleration_weight_ : 0.0;
     const double combined2 = posture2 + velocity2 + acceleration2, combined = std::sqrt(combined2);
@@ -122,6 +134,10 @@ class TrackingCost final : public ceres::CostFunction {
   double continuity_weight_;
   double acceleration_weight_;
   const Eigen::VectorXd* predicted_step_ = nullptr;
+  std::vector<int> task_row_;  // first residual row of each task
+  int regularisation_row_ = 0;
+  mutable Eigen::VectorXd realized_q_;
+  mutable bool realized_ = false;
   int first_joint_u_;
   int q_offset_;
   const std::vector<IkTarget>* targets_ = nullptr;

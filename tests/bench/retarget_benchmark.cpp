@@ -1,10 +1,13 @@
 // Retargeting throughput on G1: per-frame IK on exact targets from a smooth
-// trajectory (frames per second, warm-started as in syn-retarget), and
-// inverse dynamics per frame (setQ + setU + ID).
+// trajectory (frames per second, warm-started as in syn-retarget) against
+// Simbody's Assembler (Markers + OrientationSensors goals, the engine behind
+// OpenSim IK) on the same targets, each with its tracking error; and inverse
+// dynamics per frame (setQ + setU + ID).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 
+#include "common/assembler_tracking.h"
 #include "common/model.h"
 #include "stages/retarget/frame_ik.h"
 #include "stages/retarget/robot_map.h"
@@ -43,6 +46,29 @@ struct G1Targets {
   }
 };
 
+// RMS link position (mm) and orientation (deg) error of a solved frame against its targets.
+struct TrackingError {
+  double position_sq = 0, angle_sq = 0;
+  int64_t positions = 0, angles = 0;
+  void add(Workspace& workspace, const std::vector<IkTask>& tasks, const std::vector<IkTarget>& targets, const Eigen::VectorXd& q) {
+    workspace.setQ(q);
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      const Eigen::Isometry3d pose = workspace.findLinkPose(tasks[i].link);
+      if (tasks[i].type != TaskType::kOrientation) {
+        position_sq += (pose.translation() - targets[i].position).squaredNorm(), ++positions;
+      }
+      if (tasks[i].type != TaskType::kPosition) {
+        const double angle = Eigen::AngleAxisd(pose.linear() * targets[i].orientation.toRotationMatrix().transpose()).angle();
+        angle_sq += angle * angle, ++angles;
+      }
+    }
+  }
+  void report(benchmark::State& state) const {
+    state.counters["position_rms_mm"] = 1000 * std::sqrt(position_sq / static_cast<double>(std::max<int64_t>(1, positions)));
+    state.counters["angle_rms_deg"] = 180 / M_PI * std::sqrt(angle_sq / static_cast<double>(std::max<int64_t>(1, angles)));
+  }
+};
+
 void FrameIkG1(benchmark::State& state) {
   G1Targets g1;
   const double posture = g1.map.priority_weights[2] * g1.map.posture_weight;
@@ -55,6 +81,53 @@ void FrameIkG1(benchmark::State& state) {
   }
   state.counters["frames_per_second"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
   state.counters["iterations_per_frame"] = static_cast<double>(iterations) / static_cast<double>(frames);
+  Workspace workspace(g1.model);
+  TrackingError error;
+  Eigen::VectorXd q = g1.trajectory[0];
+  ik.forgetHistory();
+  for (const auto& frame : g1.targets) {
+    ik.solve(frame, q);
+    error.add(workspace, g1.tasks, frame, q);
+  }
+  error.report(state);
+}
+
+void AssemblerG1(benchmark::State& state) {
+  G1Targets g1;
+  std::vector<AssemblerTask> tasks;
+  for (const IkTask& task : g1.tasks) {
+    tasks.push_back({task.link, task.type != TaskType::kOrientation, task.type != TaskType::kPosition, task.weight});
+  }
+  std::vector<std::vector<Eigen::Vector3d>> positions;
+  std::vector<std::vector<Eigen::Quaterniond>> orientations;
+  for (const auto& frame : g1.targets) {
+    positions.emplace_back();
+    orientations.emplace_back();
+    for (const IkTarget& target : frame) {
+      positions.back().push_back(target.position);
+      orientations.back().push_back(target.orientation);
+    }
+  }
+  int64_t frames = 0;
+  TrackingError error;
+  Workspace workspace(g1.model);
+  bool first_pass = true;
+  for (auto _ : state) {
+    AssemblerTracker assembler(g1.model, tasks);
+    Eigen::VectorXd q = g1.trajectory[0];
+    for (size_t t = 0; t < g1.targets.size(); ++t) {
+      assembler.track(positions[t], orientations[t], q);
+      if (first_pass) {
+        state.PauseTiming();
+        error.add(workspace, g1.tasks, g1.targets[t], q);
+        state.ResumeTiming();
+      }
+    }
+    first_pass = false;
+    frames += static_cast<int64_t>(g1.targets.size());
+  }
+  state.counters["frames_per_second"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
+  error.report(state);
 }
 
 void InverseDynamicsG1(benchmark::State& state) {
@@ -75,6 +148,7 @@ void InverseDynamicsG1(benchmark::State& state) {
 }
 
 BENCHMARK(FrameIkG1)->Unit(benchmark::kMillisecond);
+BENCHMARK(AssemblerG1)->Unit(benchmark::kMillisecond);
 BENCHMARK(InverseDynamicsG1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
