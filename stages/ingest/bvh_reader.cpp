@@ -1,5 +1,7 @@
 #include "stages/ingest/bvh_reader.h"
 
+#include <algorithm>
+
 #include <charconv>
 #include <cmath>
 
@@ -240,7 +242,14 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
     data.bodies.push_back(joint.name);
     data.body_parents.push_back(joint.parent < 0 ? "" : joints[static_cast<size_t>(joint.parent)].name);
   }
-  const int64_t first = options.drop_first_frame && frames_read > 0 ? 1 : 0;
+  int64_t first = options.drop_first_frame && frames_read > 0 ? 1 : 0;
+  // Some of those conversions carry a second reference frame after the first, every channel exactly zero
+  // (CMU 07_12: the skeleton at the origin, 40 cm from where the take starts): not part of the take either.
+  const auto all_zero = [&](int64_t frame) {
+    const double* row = &values[static_cast<size_t>(frame) * static_cast<size_t>(channel_count)];
+    return std::all_of(row, row + channel_count, [](double value) { return value == 0.0; });
+  };
+  while (first > 0 && first + 1 < frames_read && all_zero(first)) ++first;
   const int64_t frames = frames_read - first;
   data.time_s.resize(static_cast<size_t>(frames));
   data.body_pose.resize(static_cast<size_t>(frames) * joints.size() * 7);

@@ -18,7 +18,9 @@ namespace syn {
 
 struct BvhOptions {
   // Drop frame 0: cgspeed's MotionBuilder- and Daz-friendly CMU conversions
-  // put a T-pose / reference frame there that is not part of the take.
+  // put a T-pose / reference frame there that is not part of the take. Frames
+  // right after it with every channel exactly zero (a second reference frame,
+  // as in 07_12) are dropped too.
   bool drop_first_frame = false;
 };
 

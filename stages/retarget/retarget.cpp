@@ -340,7 +340,18 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
       const double step_time = std::isfinite(last_solved_time) ? options.velocity_limit_scale *
                                                                      (motion.time_s[static_cast<size_t>(t)] - last_solved_time)
                                                                : 0.0;
-      report.mean_ik_iterations += ik.solve(targets, q, step_time).iterations;
+      FrameIkSummary solved = ik.solve(targets, q, step_time);
+      report.mean_ik_iterations += solved.iterations;
+      // The first frame travels from the reference stance, far from its answer: solve it again from its
+      // own result until it settles, or the next frames would finish the journey as a jump.
+      for (int again = 0; !std::isfinite(last_solved_time) && again < 10; ++again) {
+        ik.forgetHistory();
+        const FrameIkSummary more = ik.solve(targets, q, 0.0);
+        report.mean_ik_iterations += more.iterations;
+        if (more.final_cost > (1 - 1e-6) * solved.final_cost) break;
+        solved = more;
+      }
+      if (!std::isfinite(last_solved_time)) ik.forgetHistory();
       last_solved_time = motion.time_s[static_cast<size_t>(t)];
       frame_targets[static_cast<size_t>(t)] = targets;
     }
@@ -352,6 +363,7 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
   const auto refine_start = std::chrono::steady_clock::now();
   RefinementOptions refinement;
   refinement.smoothing = options.smoothing;
+  refinement.velocity_limit_scale = options.velocity_limit_scale;
   RefineTrajectory(ik, model, frame_targets, motion.time_s, motion.q, refinement);
   report.refinement_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - refine_start).count();
   // Landmark errors of the final trajectory.

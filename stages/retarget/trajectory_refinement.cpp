@@ -105,8 +105,12 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
   solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
   // The problem is linear: with an unbounded trust region the first LM step is the Gauss-Newton solution.
+  // Joint limits are not Ceres bounds here: with bounds Ceres projects and line-searches, and a couple of
+  // iterations no longer reach the solution, which left a step at every window's join. Joints on a limit
+  // are held (below) and the corrected trajectory is clamped to the limits; clamping a continuous
+  // trajectory keeps it continuous.
   solver.initial_trust_region_radius = 1e16;
-  solver.max_num_iterations = 2;
+  solver.max_num_iterations = 1;
   solver.logging_type = ceres::SILENT;
   solver.num_threads = 1;
   Eigen::VectorXd residual, frame_q(nq);
@@ -119,11 +123,16 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
       double* x = correction[static_cast<size_t>(t)].data();
       problem.AddParameterBlock(x, static_cast<int>(nu));
       frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
+      // A joint the IK left on a limit stays there: the tracking residual would otherwise pull it through
+      // (the IK held it there because the targets ask for more), and clamping afterwards would undo the
+      // compensation the rest of the body made for it.
+      std::vector<int> on_limit;
       for (int u = first_joint; u < nu; ++u) {
         const double value = frame_q[u + q_offset];
-        const double lower = model.qLower()[u + q_offset], upper = model.qUpper()[u + q_offset];
-        if (std::isfinite(lower)) problem.SetParameterLowerBound(x, u, std::min(0.0, lower - value));
-        if (std::isfinite(upper)) problem.SetParameterUpperBound(x, u, std::max(0.0, upper - value));
+        if (value <= model.qLower()[u + q_offset] + 1e-9 || value >= model.qUpper()[u + q_offset] - 1e-9) on_limit.push_back(u);
+      }
+      if (!on_limit.empty() && static_cast<int>(on_limit.size()) < nu) {
+        problem.SetManifold(x, new ceres::SubsetManifold(static_cast<int>(nu), on_limit));
       }
       const std::vector<IkTarget>& frame_targets = targets[static_cast<size_t>(t)];
       if (!frame_targets.empty()) {
@@ -149,8 +158,17 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
   for (int64_t t = 0; t < frames; ++t) {
     frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
     ApplyVelocityStep(model, frame_q, correction[static_cast<size_t>(t)], refined);
-    for (int u = first_joint; u < nu; ++u) {  // bounds hold up to the solver's tolerance: clamp the rounding
-      refined[u + q_offset] = std::clamp(refined[u + q_offset], model.qLower()[u + q_offset], model.qUpper()[u + q_offset]);
+    for (int u = first_joint; u < nu; ++u) {
+      double lower = model.qLower()[u + q_offset], upper = model.qUpper()[u + q_offset];
+      // The velocity limit from the previous (already final) frame: the smoothing does not bound
+      // velocities by itself, and on the fastest captures it would ask more of a motor than the IK did.
+      const double reach = t > 0 ? options.velocity_limit_scale * model.uLimit()[u] * (times[static_cast<size_t>(t)] - times[static_cast<size_t>(t - 1)]) : 0.0;
+      if (t > 0 && options.velocity_limit_scale > 0 && std::isfinite(reach)) {
+        const double previous = q[static_cast<size_t>((t - 1) * nq + u + q_offset)];
+        lower = std::max(lower, std::min(previous - reach, upper));
+        upper = std::min(upper, std::max(previous + reach, lower));
+      }
+      refined[u + q_offset] = std::clamp(refined[u + q_offset], lower, upper);
     }
     std::copy(refined.data(), refined.data() + nq, q.begin() + t * nq);
   }

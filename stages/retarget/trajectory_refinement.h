@@ -7,7 +7,9 @@
 //   Σ_t ‖r_t + J_t x_t‖²                        each frame's IK residual, linearised at its solution
 //   + Σ_t ‖s · a_t · (0.01 s)²‖²                 a_t: the acceleration (second difference of q over time)
 //
-// with the joint limits as bounds. s = --smoothing: with s = 1, an
+// with joints the IK left on a limit held there. Afterwards every frame is
+// clamped to the joint limits and, frame by frame, to the URDF velocity limit
+// from the previous frame (the bound the per-frame IK keeps). s = --smoothing: with s = 1, an
 // acceleration of 10 rad/s² costs as much as 1 mm of tracking error at
 // weight 1. Windows of 60 frames overlap by 15; the first two frames of each
 // window keep the previous window's answer, so the joins are smooth too.
@@ -24,6 +26,8 @@ struct RefinementOptions {
   double smoothing = 1.0;  // 0: off
   int window = 60;
   int overlap = 15;
+  // Each joint's per-frame change is at most this fraction of its URDF velocity limit × dt (0: unbounded).
+  double velocity_limit_scale = 1.0;
 };
 
 // `targets[t]` empty: no target that frame (smoothness alone decides it). q: [T, nq] row-major, in place.

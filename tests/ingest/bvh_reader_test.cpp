@@ -102,6 +102,20 @@ TEST(BvhReader, DropFirstFrame) {
   EXPECT_DOUBLE_EQ(data.time_s[0], 0.0);
 }
 
+// cgspeed's 07_12 has a second reference frame, every channel zero, after the first: dropped as well;
+// a zero frame later in the take (or when the first frame is kept) is motion.
+TEST(BvhReader, DropFirstFrameAlsoDropsAllZeroReferenceFramesAfterIt) {
+  const std::string three = With(With(kTwoBones, "Frames: 2", "Frames: 4"), "0 0 0 90 0 0 0 90 0\n",
+                                 "0 0 0 0 0 0 0 0 0\n0 0 0 90 0 0 0 90 0\n0 0 0 0 0 0 0 0 0\n");
+  BvhOptions options;
+  options.drop_first_frame = true;
+  const MarkerData dropped = ParseBvh(three, "three.bvh", options);
+  ASSERT_EQ(dropped.frame_count(), 2);
+  EXPECT_LT((Position(dropped, 0, 1) - Eigen::Vector3d(0, 10, 0)).norm(), 1e-12);  // the 90° frame
+  EXPECT_LT((Position(dropped, 1, 1) - Eigen::Vector3d(10, 0, 0)).norm(), 1e-12);  // the trailing zero frame stays
+  EXPECT_EQ(ParseBvh(three, "three.bvh", {}).frame_count(), 4);
+}
+
 // text with the first `from` replaced by `to` (built by concatenation: GCC 12 warns falsely on
 // std::string::replace at -O2).
 std::string With(const std::string& text, const std::string& from, const std::string& to) {
