@@ -11,6 +11,7 @@
 #include "common/model.h"
 #include "stages/retarget/frame_ik.h"
 #include "stages/retarget/robot_map.h"
+#include "stages/retarget/trajectory_refinement.h"
 
 namespace syn {
 namespace {
@@ -130,6 +131,30 @@ void AssemblerG1(benchmark::State& state) {
   error.report(state);
 }
 
+// The trajectory refinement over the per-frame IK solutions of the same targets (windows of 60 frames
+// overlapping by 15, as in syn-retarget): frames per second of the refinement alone.
+void RefinementG1(benchmark::State& state) {
+  G1Targets g1;
+  const double posture = g1.map.priority_weights[2] * g1.map.posture_weight;
+  FrameIk ik(g1.model, g1.tasks, g1.model.defaultQ(), posture);
+  const int64_t nq = g1.model.nq();
+  std::vector<double> times, solved;
+  Eigen::VectorXd q = g1.trajectory[0];
+  for (size_t t = 0; t < g1.targets.size(); ++t) {
+    ik.solve(g1.targets[t], q);
+    times.push_back(static_cast<double>(t) / 120.0);
+    solved.insert(solved.end(), q.data(), q.data() + nq);
+  }
+  int64_t frames = 0;
+  for (auto _ : state) {
+    std::vector<double> refined = solved;
+    RefineTrajectory(ik, g1.model, g1.targets, times, refined, {});
+    benchmark::DoNotOptimize(refined.data());
+    frames += static_cast<int64_t>(g1.targets.size());
+  }
+  state.counters["frames_per_second"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
+}
+
 void InverseDynamicsG1(benchmark::State& state) {
   G1Targets g1;
   Workspace workspace(g1.model);
@@ -149,6 +174,7 @@ void InverseDynamicsG1(benchmark::State& state) {
 
 BENCHMARK(FrameIkG1)->Unit(benchmark::kMillisecond);
 BENCHMARK(AssemblerG1)->Unit(benchmark::kMillisecond);
+BENCHMARK(RefinementG1)->Unit(benchmark::kMillisecond);
 BENCHMARK(InverseDynamicsG1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
