@@ -258,6 +258,12 @@ struct FrameIk::Impl {
       }
     }
     if (!changed) return false;
+    applyHeldJoints();
+    return true;
+  }
+
+  // Tells Ceres which joints held_mask holds (constant at their current δ).
+  void applyHeldJoints() {
     held.clear();
     for (int u = first_joint; u < model.nu(); ++u) {
       if (held_mask[u]) held.push_back(u);
@@ -265,7 +271,6 @@ struct FrameIk::Impl {
     problem.SetManifold(delta.data(), nullptr);
     held_manifold = held.empty() ? nullptr : std::make_unique<ceres::SubsetManifold>(model.nu(), held);
     problem.SetManifold(delta.data(), held_manifold.get());
-    return true;
   }
 };
 
@@ -315,15 +320,10 @@ FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::Vecto
     const Eigen::VectorXd& g = impl.costGradient();
     for (int u = impl.first_joint; u < impl.model.nu(); ++u) {
       impl.held_mask[u] = (impl.step_lower[u] >= 0 && g[u] > 0) || (impl.step_upper[u] <= 0 && g[u] < 0);
+      if (impl.held_mask[u]) impl.delta[u] = 0.0;  // the warm start is that bound
     }
   }
-  impl.held.clear();
-  for (int u = impl.first_joint; u < impl.model.nu(); ++u) {
-    if (impl.held_mask[u]) impl.held.push_back(u);
-  }
-  impl.problem.SetManifold(impl.delta.data(), nullptr);
-  impl.held_manifold = impl.held.empty() ? nullptr : std::make_unique<ceres::SubsetManifold>(impl.model.nu(), impl.held);
-  impl.problem.SetManifold(impl.delta.data(), impl.held_manifold.get());
+  impl.applyHeldJoints();
 
   FrameIkSummary result;
   ceres::Solver::Summary summary;
