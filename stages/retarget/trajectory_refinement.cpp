@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include <stdexcept>
+#include <string>
+
 #include <Eigen/Geometry>
-#include <Eigen/QR>
-#include <ceres/ceres.h>
+
+#include "stages/retarget/block_banded_system.h"
 
 namespace syn {
 namespace {
@@ -14,65 +17,27 @@ constexpr double kReferenceStep = 0.01;  // s: accelerations are weighted as dis
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-// r + J x: one frame's IK residual, linearised at its solution. Stored compressed: with J = Q R (thin QR),
-// ‖r + J x‖² = ‖Qᵀr + R x‖² + const, so Ceres sees nu rows instead of the tasks' and posture's many.
-class LinearisedTracking final : public ceres::CostFunction {
- public:
-  LinearisedTracking(const Eigen::VectorXd& residual, const RowMatrix& jacobian) {
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(jacobian);
-    const Eigen::Index nu = jacobian.cols(), rank_rows = std::min(jacobian.rows(), nu);
-    const Eigen::VectorXd rotated = qr.householderQ().transpose() * residual;
-    residual_ = rotated.head(rank_rows);
-    jacobian_ = qr.matrixQR().topRows(rank_rows).triangularView<Eigen::Upper>();
-    set_num_residuals(static_cast<int>(residual_.size()));
-    mutable_parameter_block_sizes()->push_back(static_cast<int>(jacobian_.cols()));
-  }
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    const Eigen::Map<const Eigen::VectorXd> x(parameters[0], jacobian_.cols());
-    Eigen::Map<Eigen::VectorXd>(residuals, residual_.size()) = residual_ + jacobian_ * x;
-    if (jacobians && jacobians[0]) Eigen::Map<RowMatrix>(jacobians[0], jacobian_.rows(), jacobian_.cols()) = jacobian_;
-    return true;
-  }
+// Adds one frame's linearised IK residual ‖r + J x_k‖² to the normal equations.
+void AddTracking(BlockBandedSystem& system, int k, const Eigen::VectorXd& residual, const RowMatrix& jacobian) {
+  system.diagonal(k).selfadjointView<Eigen::Lower>().rankUpdate(jacobian.transpose());
+  system.rhs(k).noalias() -= jacobian.transpose() * residual;
+}
 
- private:
-  Eigen::VectorXd residual_;
-  RowMatrix jacobian_;
-};
-
-// s (0.01 s)² · ((d₊ + x₊ − x)/h₊ − (d₋ + x − x₋)/h₋) · 2/(h₋ + h₊): the second difference of q in the
-// tangent space, d± the IK solution's own steps.
-class Acceleration final : public ceres::CostFunction {
- public:
-  Acceleration(Eigen::VectorXd step_before, Eigen::VectorXd step_after, double h_before, double h_after, double weight)
-      : before_(std::move(step_before)), after_(std::move(step_after)) {
-    const double scale = weight * kReferenceStep * kReferenceStep * 2.0 / (h_before + h_after);
-    c_before_ = scale / h_before;
-    c_after_ = scale / h_after;
-    const int nu = static_cast<int>(before_.size());
-    set_num_residuals(nu);
-    for (int i = 0; i < 3; ++i) mutable_parameter_block_sizes()->push_back(nu);
+// Adds ‖c₋ x_{k-1} + c₀ x_k + c₊ x_{k+1} + b‖² with b = c₊ d₊ − c₋ d₋: the second difference of q in
+// the tangent space, d± the IK solution's own steps, weighted s (0.01 s)² · 2/(h₋ + h₊). Its Jacobian
+// blocks are multiples of the identity, so it only touches diagonals.
+void AddAcceleration(BlockBandedSystem& system, int k, const Eigen::VectorXd& step_before,
+                     const Eigen::VectorXd& step_after, double h_before, double h_after, double weight) {
+  const double scale = weight * kReferenceStep * kReferenceStep * 2.0 / (h_before + h_after);
+  const double c[3] = {scale / h_before, -scale / h_after - scale / h_before, scale / h_after};
+  for (int a = 0; a < 3; ++a) {
+    system.diagonal(k - 1 + a).diagonal().array() += c[a] * c[a];
+    system.rhs(k - 1 + a).noalias() -= c[a] * (c[2] * step_after - c[0] * step_before);
   }
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    const Eigen::Index nu = before_.size();
-    const Eigen::Map<const Eigen::VectorXd> x_before(parameters[0], nu), x(parameters[1], nu), x_after(parameters[2], nu);
-    Eigen::Map<Eigen::VectorXd>(residuals, nu) =
-        c_after_ * (after_ + x_after - x) - c_before_ * (before_ + x - x_before);
-    if (jacobians) {
-      const double diagonal[3] = {c_before_, -c_after_ - c_before_, c_after_};
-      for (int block = 0; block < 3; ++block) {
-        if (!jacobians[block]) continue;
-        Eigen::Map<RowMatrix> J(jacobians[block], nu, nu);
-        J.setZero();
-        J.diagonal().setConstant(diagonal[block]);
-      }
-    }
-    return true;
-  }
-
- private:
-  Eigen::VectorXd before_, after_;
-  double c_before_ = 0, c_after_ = 0;
-};
+  system.lower(k, 1).diagonal().array() += c[1] * c[0];
+  system.lower(k + 1, 1).diagonal().array() += c[2] * c[1];
+  system.lower(k + 1, 2).diagonal().array() += c[2] * c[0];
+}
 
 // q1 ⊖ q0 in the velocity space (a free base's rotation as log(R1 R0ᵀ), ground frame).
 void TangentStep(const Model& model, const double* q0, const double* q1, Eigen::VectorXd& step) {
@@ -101,57 +66,47 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
   for (int64_t t = 1; t < frames; ++t) {
     TangentStep(model, &q[static_cast<size_t>((t - 1) * nq)], &q[static_cast<size_t>(t * nq)], step[static_cast<size_t>(t)]);
   }
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-  // The problem is linear: with an unbounded trust region the first LM step is the Gauss-Newton solution.
-  // Joint limits are not Ceres bounds here: with bounds Ceres projects and line-searches, and a couple of
-  // iterations no longer reach the solution, which left a step at every window's join. Joints on a limit
-  // are held (below) and the corrected trajectory is clamped to the limits; clamping a continuous
-  // trajectory keeps it continuous.
-  solver.initial_trust_region_radius = 1e16;
-  solver.max_num_iterations = 1;
-  solver.logging_type = ceres::SILENT;
-  solver.num_threads = 1;
+  BlockBandedSystem system;
+  std::vector<Eigen::VectorXd> solution;
   Eigen::VectorXd residual, frame_q(nq);
   RowMatrix jacobian;
   const int64_t advance = std::max(3, options.window - options.overlap);
   for (int64_t start = 0; start < frames - 2; start += advance) {
     const int64_t end = std::min(frames, start + options.window);
-    ceres::Problem problem;
-    for (int64_t t = start; t < end; ++t) {
-      double* x = correction[static_cast<size_t>(t)].data();
-      problem.AddParameterBlock(x, static_cast<int>(nu));
-      frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
+    const int blocks = static_cast<int>(end - start);
+    system.reset(blocks, static_cast<int>(nu));
+    for (int k = 0; k < blocks; ++k) {
+      const size_t t = static_cast<size_t>(start + k);
+      const Eigen::VectorXd& x = correction[t];
+      // The first two frames of a later window keep what the previous window found: the join stays smooth.
+      if (start > 0 && k < 2) {
+        for (int u = 0; u < nu; ++u) system.fix(k, u, x[u]);
+        continue;
+      }
+      frame_q = Eigen::Map<const Eigen::VectorXd>(&q[t * static_cast<size_t>(nq)], nq);
       // A joint the IK left on a limit stays there: the tracking residual would otherwise pull it through
       // (the IK held it there because the targets ask for more), and clamping afterwards would undo the
       // compensation the rest of the body made for it.
-      std::vector<int> on_limit;
       for (int u = first_joint; u < nu; ++u) {
         const double value = frame_q[u + q_offset];
-        if (value <= model.qLower()[u + q_offset] + 1e-9 || value >= model.qUpper()[u + q_offset] - 1e-9) on_limit.push_back(u);
+        if (value <= model.qLower()[u + q_offset] + 1e-9 || value >= model.qUpper()[u + q_offset] - 1e-9) {
+          system.fix(k, u, x[u]);
+        }
       }
-      if (!on_limit.empty() && static_cast<int>(on_limit.size()) < nu) {
-        problem.SetManifold(x, new ceres::SubsetManifold(static_cast<int>(nu), on_limit));
+      if (!targets[t].empty()) {
+        ik.linearize(targets[t], frame_q, residual, jacobian);
+        AddTracking(system, k, residual, jacobian);
       }
-      const std::vector<IkTarget>& frame_targets = targets[static_cast<size_t>(t)];
-      if (!frame_targets.empty()) {
-        ik.linearize(frame_targets, frame_q, residual, jacobian);
-        problem.AddResidualBlock(new LinearisedTracking(residual, jacobian), nullptr, x);
-      }
-      // The first two frames of a later window keep what the previous window found: the join stays smooth.
-      if (start > 0 && t < start + 2) problem.SetParameterBlockConstant(x);
     }
-    for (int64_t t = start + 1; t + 1 < end; ++t) {
-      problem.AddResidualBlock(
-          new Acceleration(step[static_cast<size_t>(t)], step[static_cast<size_t>(t + 1)],
-                           times[static_cast<size_t>(t)] - times[static_cast<size_t>(t - 1)],
-                           times[static_cast<size_t>(t + 1)] - times[static_cast<size_t>(t)], options.smoothing),
-          nullptr, correction[static_cast<size_t>(t - 1)].data(), correction[static_cast<size_t>(t)].data(),
-          correction[static_cast<size_t>(t + 1)].data());
+    for (int k = 1; k + 1 < blocks; ++k) {
+      const size_t t = static_cast<size_t>(start + k);
+      AddAcceleration(system, k, step[t], step[t + 1], times[t] - times[t - 1], times[t + 1] - times[t], options.smoothing);
     }
-    ceres::Solver::Summary summary;
-    ceres::Solve(solver, &problem, &summary);
+    if (!system.solve(solution)) {
+      throw std::runtime_error("trajectory refinement: the smoothing problem of frames " + std::to_string(start) +
+                               "-" + std::to_string(end - 1) + " is singular (no targets and nothing to anchor them)");
+    }
+    for (int k = 0; k < blocks; ++k) correction[static_cast<size_t>(start + k)] = solution[static_cast<size_t>(k)];
     if (end == frames) break;
   }
   Eigen::VectorXd refined(nq);
