@@ -218,6 +218,9 @@ struct FrameIk::Impl {
     solver_options.logging_type = ceres::SILENT;
     solver_options.minimizer_progress_to_stdout = false;
     solver_options.num_threads = 1;
+    // The unknowns are all radians or metres of similar size, so Jacobi scaling buys nothing here and
+    // costs two passes over the Jacobian per iteration (same solutions, ~10 % of the solve time).
+    solver_options.jacobi_scaling = false;
   }
 
   // ∇ ½‖r‖² with respect to δ at the current δ.

@@ -46,11 +46,14 @@ struct FrameIkOptions {
   // Weight of ‖δ − δ_previous‖ (per rad): a discrete acceleration penalty that keeps joints the tasks
   // leave nearly free (shoulder yaw and wrist roll under a hand pose) from chattering between equally
   // good solutions, without lagging a smoothly moving joint. The previous step is also where the solver
-  // starts. It applies from the second consecutive solve (see FrameIk::forgetHistory).
-  double acceleration_weight = 0.1;
+  // starts. It applies from the second consecutive solve (see FrameIk::forgetHistory). 0.05 tracks
+  // exact targets to 0.05 mm / 0.01° (make bench); 0.1 doubles that error for 20 % fewer iterations.
+  double acceleration_weight = 0.05;
   int max_iterations = 50;
-  // Stop when the cost changes by less than this fraction (Ceres function_tolerance).
-  double function_tolerance = 1e-5;
+  // Stop when the cost changes by less than this fraction (Ceres function_tolerance). Warm-started
+  // from the predicted step, most frames converge in one Gauss-Newton step; 1e-5 buys a second
+  // iteration on most frames for no measurable change in the tracking error.
+  double function_tolerance = 1e-4;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-9;
 };
