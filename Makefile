@@ -31,7 +31,7 @@ DEBIAN_PACKAGES := cmake g++ make libeigen3-dev libsimbody-dev libceres-dev libs
 # Only for `make fuzz-smoke`: libFuzzer ships with clang's runtime.
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 
-.PHONY: all setup setup-fuzz configure build test bench bench-archive demo run release compose project sanitize-test fuzz-smoke clean print-packages
+.PHONY: all setup setup-fuzz configure build test bench bench-archive demo run release compose project power-ratio sanitize-test fuzz-smoke clean print-packages
 .DEFAULT_GOAL := all
 
 all: demo
@@ -165,6 +165,36 @@ project: build
 	  $(BIN)/syn-project $$out/$$name.motion.h5 --library $(LIBRARY) --style $(STYLE) --model $(COMPOSE_MODEL) \
 	    --robot-map $(COMPOSE_MAP) -o $$out/$$name.projected.motion.h5 2>&1 | tee -a $$out/summary.txt || exit 1; \
 	done; echo "make: before/after table in $$out/summary.txt"
+
+# ---- human vs robot power ----------------------------------------------------------------
+# Every trial of MANIFEST (its markers from `make run`) retargeted onto the paper's HRP-4C model and onto
+# its human model (the same tree with human masses), both evaluated alike: mean mechanical power in W/kg
+# and HRP-4C / human per trial (outputs/NAME/power-ratio/power_ratio.csv), then per motion class. The
+# paper (OpenSim's muscle model for the human) reports humans 3.3x more efficient. Both URDFs as published
+# give every link a placeholder inertia of 1 kg m^2 (the real values are commented out), which dominates
+# the torques, so their ratio comes out near the mass ratio; point HUMANOID_SYNERGIES at corrected models.
+HUMANOID_SYNERGIES ?= ../shared/datasets/robots/humanoid_synergies
+power-ratio: run
+	@if [ ! -f $(HUMANOID_SYNERGIES)/human_optitrack_model.urdf ]; then \
+	  echo "make: power-ratio needs the paper's models in $(HUMANOID_SYNERGIES) (HUMANOID_SYNERGIES=...)"; exit 1; fi
+	@out=$(OUTPUTS)/$(MANIFEST_NAME)/power-ratio; mkdir -p $$out; \
+	markerset=$$(sed -n 's/^markerset *= *"\(.*\)".*/\1/p' $(MANIFEST) | head -n 1); synergies=; robot=; human=; \
+	for trial in $(OUTPUTS)/$(MANIFEST_NAME)/trials/*/; do id=$$(basename $$trial); \
+	  for body in HRP4c human; do model=$(HUMANOID_SYNERGIES)/$${body}_optitrack_model.urdf; log=$$out/$$id.$$body.log; \
+	    $(BIN)/syn-retarget $$trial/markers.h5 -o $$out/$$id.$$body.motion.h5 --model $$model \
+	      --robot-map manifests/robots/hrp4c.toml --markerset $$markerset 2> $$log && \
+	    $(BIN)/syn-evaluate $$out/$$id.$$body.motion.h5 --model $$model --robot-map manifests/robots/hrp4c.toml \
+	      -o $$out/$$id.$$body.metrics.json 2>> $$log || { cat $$log; exit 1; }; \
+	  done; \
+	  synergies="$$synergies $$trial/synergies.h5"; robot="$$robot $$out/$$id.HRP4c.metrics.json"; \
+	  human="$$human $$out/$$id.human.metrics.json"; \
+	done; \
+	$(BIN)/syn-summary $$synergies --table power-ratio --metrics $$robot --human-metrics $$human \
+	  -o $$out/power_ratio.csv 2> $$out/summary.log || { cat $$out/summary.log; exit 1; }; \
+	awk -F, 'NR > 1 {n[$$3]++; human[$$3] += $$4; robot[$$3] += $$5; ratio[$$3] += $$6} \
+	  END {for (c in n) printf "  %-16s %3d trials  human %6.2f W/kg  HRP-4C %6.2f W/kg  HRP-4C/human %5.2f\n", \
+	    c, n[c], human[c] / n[c], robot[c] / n[c], ratio[c] / n[c]}' $$out/power_ratio.csv | sort; \
+	echo "make: per-trial table in $$out/power_ratio.csv"
 
 # ---- compose scripts -------------------------------------------------------------------
 # The script's motion goes through syn-evaluate like any retargeted trial, and out as robot CSV and .mot.

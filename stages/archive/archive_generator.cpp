@@ -29,7 +29,7 @@ bool LoadSource(const SourceTrial& trial, SourceJoints& joints) {
   const MarkerData capture = IngestCapture(trial.path, {}, nullptr);
   const BvhConvention convention = DetectBvhConvention(capture.bodies);
   if (convention == BvhConvention::kNone) return false;
-  const int column = convention == BvhConvention::kMotionBuilder ? 0 : 1;
+  const int column = static_cast<int>(convention);
   std::array<int64_t, kMarkers> body{};
   for (int m = 0; m < kMarkers; ++m) {
     const std::string name = SmplJointMarkers()[static_cast<size_t>(m)].bvh[column];
@@ -40,8 +40,8 @@ bool LoadSource(const SourceTrial& trial, SourceJoints& joints) {
   joints.trial = &trial;
   joints.rate = capture.rate_hz;
   const int64_t bodies = static_cast<int64_t>(capture.bodies.size());
-  // The MotionBuilder-friendly conversion starts with a T-pose frame (manifests/cmu15.toml).
-  const int64_t first = convention == BvhConvention::kMotionBuilder ? 1 : 0;
+  // The MotionBuilder- and Daz-friendly conversions start with a T-pose or reference frame (SOURCES.md).
+  const int64_t first = convention == BvhConvention::kMax ? 0 : 1;
   for (int64_t t = first; t < capture.frame_count(); ++t) {
     std::array<double, kMarkers * 3> frame{};
     for (int m = 0; m < kMarkers; ++m) {

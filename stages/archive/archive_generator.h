@@ -41,8 +41,8 @@ struct GeneratedTrial {
   bool mirrored = false;
 };
 
-// Reads every source once, writes `output_dir`/captures/*.trc and returns what it wrote. Sources whose
-// naming convention has no toe joints are skipped, and listed in `skipped`.
+// Reads every source once, writes `output_dir`/captures/*.trc and returns what it wrote. Sources in none
+// of the three cgspeed naming conventions are skipped, and listed in `skipped`.
 [[nodiscard]] std::vector<GeneratedTrial> GenerateArchive(const std::vector<SourceTrial>& sources,
                                                           const std::string& output_dir, const ArchiveOptions& options,
                                                           std::vector<std::string>* skipped);

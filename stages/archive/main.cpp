@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
     std::cerr << "syn-archive: " << trials.size() << " trials, " << frames << " frames (" << frames / options.rate / 3600
               << " h) from " << sources.size() - skipped.size() << " sources -> " << common.output << "/archive.toml\n";
     for (const std::string& path : skipped) {
-      std::cerr << "syn-archive: skipped " << path << " (Daz-friendly naming: no toe joints for left_foot/right_foot)\n";
+      std::cerr << "syn-archive: skipped " << path << " (not in the MotionBuilder-, 3dsMax- or Daz-friendly naming)\n";
     }
   });
 }

@@ -1,4 +1,4 @@
-// syn-summary SYNERGIES... --table trials|segments -o TABLE.csv
+// syn-summary SYNERGIES... --table trials|segments|power-ratio -o TABLE.csv
 #include <iostream>
 
 #include "common/cli.h"
@@ -6,18 +6,29 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"Write an archive summary table as CSV: one row per trial (segments, durations, variance explained "
-               "by the kept synergies) or one row per segment (frames, duration, PC1-PC3 variance ratios).",
+               "by the kept synergies) or one row per segment (frames, duration, PC1-PC3 variance ratios), or the "
+               "human-vs-robot power ratio of each trial.",
                "syn-summary"};
   syn::CommonFlags common;
   syn::AddCommonFlags(app, common);
-  std::vector<std::string> inputs, metrics;
+  std::vector<std::string> inputs, metrics, human_metrics;
   std::string table = "trials";
   app.add_option("INPUT", inputs, "Synergies files, in row order")->required();
   app.add_option("--metrics", metrics, "syn-evaluate JSON files, one per synergies file in the same order: adds "
                                         "dP, dKE, power, foot sliding and the rank-k changes to each row");
-  app.add_option("--table", table, "trials | segments")->capture_default_str()->check(CLI::IsMember({"trials", "segments"}));
+  app.add_option("--human-metrics", human_metrics,
+                 "power-ratio table: syn-evaluate JSON of each trial retargeted onto the human model (same order); "
+                 "--metrics then holds the robot's");
+  app.add_option("--table", table, "trials | segments | power-ratio (one row per trial: human and robot mean power "
+                                   "in W/kg and their ratio)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"trials", "segments", "power-ratio"}));
   return syn::RunTool(app, argc, argv, [&] {
-    syn::WriteSummaryTable(inputs, metrics, table, common.output);
+    if (table == "power-ratio") {
+      syn::WritePowerRatioTable(inputs, metrics, human_metrics, common.output);
+    } else {
+      syn::WriteSummaryTable(inputs, metrics, table, common.output);
+    }
     std::cerr << "syn-summary: " << inputs.size() << " trials -> " << common.output << "\n";
   });
 }

@@ -46,6 +46,23 @@ std::string MetricCells(const nlohmann::json* metrics, const nlohmann::json* mon
   return cells.str();
 }
 
+nlohmann::json ReadMetrics(const std::string& path) {
+  try {
+    return nlohmann::json::parse(ReadFileText(path));
+  } catch (const nlohmann::json::exception& error) {
+    throw DataError(Location::InFile(path), std::string("not syn-evaluate JSON: ") + error.what());
+  }
+}
+
+// The trial-level mean power (W/kg) of a syn-evaluate JSON.
+double TrialPower(const nlohmann::json& metrics, const std::string& path) {
+  if (!metrics.contains("trial") || !metrics["trial"].contains("mean_power_w_per_kg") ||
+      !metrics["trial"]["mean_power_w_per_kg"].is_number()) {
+    throw DataError(Location::InFile(path), "has no trial.mean_power_w_per_kg (was the motion evaluated with its model?)");
+  }
+  return metrics["trial"]["mean_power_w_per_kg"].get<double>();
+}
+
 constexpr const char* kMetricColumns =
     ",mean_delta_p,mean_delta_ke,mean_power_w_per_kg,foot_sliding_ratio,rank_k_change_delta_p,rank_k_change_delta_ke";
 
@@ -71,14 +88,7 @@ void WriteSummaryTable(const std::vector<std::string>& synergies_files, const st
   }
   for (size_t f = 0; f < synergies_files.size(); ++f) {
     const std::string& file = synergies_files[f];
-    nlohmann::json metrics;
-    if (!metrics_files.empty()) {
-      try {
-        metrics = nlohmann::json::parse(ReadFileText(metrics_files[f]));
-      } catch (const nlohmann::json::exception& error) {
-        throw DataError(Location::InFile(metrics_files[f]), std::string("not syn-evaluate JSON: ") + error.what());
-      }
-    }
+    const nlohmann::json metrics = metrics_files.empty() ? nlohmann::json() : ReadMetrics(metrics_files[f]);
     SynergyOptions labels;
     const TrialSynergies trial = ReadTrialSynergies(file, &labels);
     double duration = 0, explained = 0;
@@ -127,6 +137,25 @@ void WriteSummaryTable(const std::vector<std::string>& synergies_files, const st
       }
       text << '\n';
     }
+  }
+  WriteFileAtomically(output, text.str());
+}
+
+void WritePowerRatioTable(const std::vector<std::string>& synergies_files,
+                          const std::vector<std::string>& robot_metrics_files,
+                          const std::vector<std::string>& human_metrics_files, const std::string& output) {
+  if (robot_metrics_files.size() != synergies_files.size() || human_metrics_files.size() != synergies_files.size()) {
+    throw UsageError("give one robot and one human metrics file per synergies file, in the same order");
+  }
+  std::ostringstream text;
+  text << "trial,subject,motion_class,human_w_per_kg,robot_w_per_kg,robot_over_human\n";
+  for (size_t f = 0; f < synergies_files.size(); ++f) {
+    SynergyOptions labels;
+    (void)ReadTrialSynergies(synergies_files[f], &labels);
+    const double robot = TrialPower(ReadMetrics(robot_metrics_files[f]), robot_metrics_files[f]);
+    const double human = TrialPower(ReadMetrics(human_metrics_files[f]), human_metrics_files[f]);
+    text << Cell(labels.trial) << ',' << Cell(labels.subject) << ',' << Cell(labels.motion_class) << ','
+         << Number(human) << ',' << Number(robot) << ',' << (human > 0 ? Number(robot / human) : std::string()) << '\n';
   }
   WriteFileAtomically(output, text.str());
 }

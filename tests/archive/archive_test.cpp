@@ -2,7 +2,11 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <algorithm>
 #include <filesystem>
+#include <set>
+
+#include <Eigen/Core>
 
 #include "common/file_bytes.h"
 #include "stages/archive/archive_generator.h"
@@ -93,6 +97,60 @@ TEST(ArchiveGenerator, MarkerNoiseHasTheRequestedSpread) {
   EXPECT_NEAR(std::sqrt(squares / n), 2.0, 0.1);
   fs::remove_all(quiet);
   fs::remove_all(noisy);
+}
+
+// One trial of each cgspeed convention (mb2 02_01, Daz 10_01, 3dsMax 14_14 excerpt) is used, and its
+// joint markers sit on one rigid skeleton: a bone joins two real joints only if the name table maps
+// each SMPL joint to the right BVH joint, so its length barely changes (noise 1 mm, no gaps here).
+TEST(ArchiveGenerator, EveryCmuConventionGivesRigidBones) {
+  SYN_REQUIRE_SHARED("cmu_bvh/10/10_01.bvh");
+  std::vector<SourceTrial> sources;
+  for (const char* path : {"02/02_01.bvh", "10/10_01.bvh", "14/14_14_excerpt.bvh"}) {
+    SourceTrial source;
+    source.path = testing::SharedPath(std::string("cmu_bvh/") + path);
+    source.id = fs::path(path).stem().string();
+    source.motion_class = source.style = "x";
+    sources.push_back(source);
+  }
+  ArchiveOptions options;
+  options.subjects = 1;
+  options.hours = 30.0 / 3600;
+  options.gaps_per_second = 0;
+  const std::string directory = Directory("conventions");
+  std::vector<std::string> skipped;
+  const std::vector<GeneratedTrial> trials = GenerateArchive(sources, directory, options, &skipped);
+  EXPECT_TRUE(skipped.empty()) << skipped.front();
+  std::set<std::string> used;
+  const std::pair<const char*, const char*> bones[] = {{"left_hip", "left_knee"},     {"left_knee", "left_ankle"},
+                                                       {"right_knee", "right_ankle"}, {"left_shoulder", "left_elbow"},
+                                                       {"left_elbow", "left_wrist"},  {"right_elbow", "right_wrist"},
+                                                       {"pelvis", "head"}};
+  IngestOptions ingest;
+  ingest.up_axis = "z";
+  for (const GeneratedTrial& trial : trials) {
+    used.insert(trial.source);
+    const MarkerData capture = IngestCapture(directory + "/captures/" + trial.file, ingest, nullptr);
+    const int64_t markers = capture.marker_count();
+    auto index = [&](const char* label) {
+      return std::find(capture.labels.begin(), capture.labels.end(), label) - capture.labels.begin();
+    };
+    for (const auto& [from, to] : bones) {
+      const int64_t a = index(from), b = index(to);
+      ASSERT_LT(b, markers) << to;
+      double sum = 0, squares = 0;
+      for (int64_t t = 0; t < capture.frame_count(); ++t) {
+        const Eigen::Map<const Eigen::Vector3d> pa(&capture.points[static_cast<size_t>((t * markers + a) * 3)]);
+        const Eigen::Map<const Eigen::Vector3d> pb(&capture.points[static_cast<size_t>((t * markers + b) * 3)]);
+        const double length = (pa - pb).norm();
+        sum += length, squares += length * length;
+      }
+      const double n = static_cast<double>(capture.frame_count()), mean = sum / n;
+      EXPECT_GT(mean, 0.1) << trial.source << " " << from << "-" << to;
+      EXPECT_LT(std::sqrt(std::max(0.0, squares / n - mean * mean)), 0.01) << trial.source << " " << from << "-" << to;
+    }
+  }
+  EXPECT_EQ(used.size(), 3u);
+  fs::remove_all(directory);
 }
 
 }  // namespace
