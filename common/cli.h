@@ -9,6 +9,7 @@
 #include <functional>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -36,6 +37,11 @@ inline void AddCommonFlags(CLI::App& app, CommonFlags& flags, bool with_output =
 // Parses the command line and runs `body`, translating every failure into
 // one message on stderr and the documented exit code. This is the only place
 // where exceptions become exit codes.
+// What a loaded file needed forgiving or looks wrong in (Model::warnings()), one line each.
+inline void PrintWarnings(const std::string& tool, const std::vector<std::string>& warnings) {
+  for (const std::string& warning : warnings) std::cerr << tool << ": warning: " << warning << "\n";
+}
+
 inline int RunTool(CLI::App& app, int argc, char** argv, const std::function<void()>& body) {
   const std::string tool = app.get_name();
   try {

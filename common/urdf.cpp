@@ -1,6 +1,7 @@
 #include "common/urdf.h"
 
 #include <charconv>
+#include <cmath>
 #include <map>
 #include <sstream>
 
@@ -11,6 +12,33 @@
 
 namespace syn {
 namespace {
+
+// Placeholder inertias (a unit tensor pasted on every link) make every torque, power and momentum wrong
+// without any error. A radius of gyration √(I/m) over 0.3 m is more than any link of a human-sized robot
+// has (a 0.6 m trunk as a uniform rod: 0.17 m). Links whose inertia is too small to matter (< 0.01 kg m^2:
+// virtual joints, end-effector frames) are left out.
+void WarnAboutImplausibleInertias(RobotDescription& description) {
+  constexpr double kMaxRadiusOfGyration = 0.3, kMinInertia = 0.01;
+  int implausible = 0;
+  const UrdfLink* worst = nullptr;
+  double worst_radius = 0;
+  for (const UrdfLink& link : description.links) {
+    const double inertia = link.inertial.inertia.diagonal().maxCoeff();
+    if (inertia < kMinInertia || link.inertial.mass <= 0) continue;
+    const double radius = std::sqrt(inertia / link.inertial.mass);
+    if (radius <= kMaxRadiusOfGyration) continue;
+    ++implausible;
+    if (radius > worst_radius) worst = &link, worst_radius = radius;
+  }
+  if (!worst) return;
+  std::ostringstream text;
+  text.precision(3);
+  text << description.file << ":" << worst->line << ": " << implausible << " link(s) have a radius of gyration over "
+       << kMaxRadiusOfGyration << " m, most of all '" << worst->name << "' (" << worst->inertial.mass << " kg, "
+       << worst->inertial.inertia.diagonal().maxCoeff() << " kg m^2: " << worst_radius
+       << " m) - placeholder inertias? Torques, power and momentum use them as given";
+  description.warnings.push_back(text.str());
+}
 
 class UrdfParser {
  public:
@@ -152,6 +180,7 @@ class UrdfParser {
       description.links.push_back(std::move(parsed));
     }
     if (description.links.empty()) fail(robot, "the robot has no <link>");
+    WarnAboutImplausibleInertias(description);
     std::vector<int> parent_joint(description.links.size(), -1);
     for (const auto* element = robot->FirstChildElement("joint"); element; element = element->NextSiblingElement("joint")) {
       UrdfJoint parsed = joint(element, description.warnings);

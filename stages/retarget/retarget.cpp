@@ -148,6 +148,7 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
   model_options.floating_base =
       FloatingBaseFromName(options.floating_base == "map" ? map.floating_base : options.floating_base);
   const Model model = Model::Load(options.model, model_options);
+  report.notes.insert(report.notes.end(), model.warnings().begin(), model.warnings().end());
   const auto joint_names = model.coordinateNames();
   CheckRobotMapNames(
       map, [&](const std::string& name) { return model.findLinkIndex(name) >= 0; },

@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
     std::string problem;
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);
     const syn::Model model = syn::LoadModel(model_path, floating_base);
+    syn::PrintWarnings("syn-segment", model.warnings());
     const syn::MotionData motion = syn::ReadMotionFile(input);
     const syn::Segmentation segmentation = syn::SegmentMotion(motion, model, options);
 

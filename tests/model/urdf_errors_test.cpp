@@ -112,5 +112,33 @@ TEST(UrdfErrors, InspectDescribesTheDefaultRobot) {
   EXPECT_EQ(description["links"].size(), 40u);
 }
 
+// Unit inertias pasted on every link (the paper's HRP-4C and human models ship like that) are not an error,
+// but would silently scale every torque: warned once, at the worst link's line.
+TEST(UrdfWarnings, PlaceholderInertiasAreNamedOnce) {
+  const std::string placeholder = R"(<robot name="r">
+  <link name="torso">
+    <inertial><mass value="10"/><inertia ixx="0.3" iyy="0.3" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="forearm">
+    <inertial><mass value="0.5"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="tool_frame">
+    <inertial><mass value="1e-6"/><inertia ixx="1e-6" iyy="1e-6" izz="1e-6" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <joint name="elbow" type="revolute"><parent link="torso"/><child link="forearm"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="tool" type="fixed"><parent link="forearm"/><child link="tool_frame"/></joint>
+</robot>)";
+  const RobotDescription description = ParseUrdf(placeholder, "robot.urdf");
+  ASSERT_EQ(description.warnings.size(), 1u);
+  EXPECT_EQ(description.warnings[0].rfind("robot.urdf:5: 1 link(s)", 0), 0u) << description.warnings[0];
+  EXPECT_NE(description.warnings[0].find("'forearm'"), std::string::npos) << description.warnings[0];
+
+  // The same robot with a forearm's real inertia (radius of gyration 0.1 m) is silent.
+  std::string real = placeholder;
+  real.replace(real.find(R"(ixx="1" iyy="1" izz="1")"), 23, R"(ixx="0.005" iyy="0.005" izz="0.001")");
+  EXPECT_TRUE(ParseUrdf(real, "robot.urdf").warnings.empty());
+}
+
 }  // namespace
 }  // namespace syn
