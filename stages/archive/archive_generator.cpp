@@ -194,6 +194,9 @@ std::string ArchiveManifest(const std::vector<GeneratedTrial>& trials, const std
        << "robot_map = \"manifests/robots/g1.toml\"\n"
        << "markerset = \"manifests/markersets/humanml3d22.toml\"\n\n"
        << "[ingest]\nup_axis = \"z\"\nfill_gaps = 30\n\n"
+       << "# Joint centres only: a stronger pull toward the reference stance keeps the arms' free swivel from\n"
+       << "# drifting onto joint limits (syn-retarget --help).\n"
+       << "[retarget]\nposture_scale = 10\n\n"
        << "# Throughput at scale: metrics at the capture rate, no Monte-Carlo (the paper's 1 kHz and 100 samples\n"
        << "# are syn-evaluate's defaults, used by the demo and cmu15 manifests).\n"
        << "[evaluate]\neval_rate = " << options.rate << "\nsamples = 0\n";

@@ -35,6 +35,10 @@ int main(int argc, char** argv) {
                  "Trajectory refinement: weight of accelerations against tracking (1: 10 rad/s^2 costs like 1 mm); "
                  "0 = per-frame IK only")
       ->capture_default_str();
+  app.add_option("--posture-scale", options.posture_scale,
+                 "Multiply the robot map's posture weight (toward the reference stance); about 10 for joint-centre "
+                 "data without segment orientations, whose arms otherwise drift onto their limits")
+      ->capture_default_str();
   app.add_option("--max-bridge", options.max_bridge,
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")
       ->capture_default_str();

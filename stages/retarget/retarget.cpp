@@ -118,12 +118,14 @@ bool RetargetOptions::IsValid(std::string* error) const {
     if (*end != '\0' || !(value > 0)) return fail("--scale must be auto or a positive number");
   }
   if (max_bridge < 0) return fail("--max-bridge must be >= 0");
+  if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
   return true;
 }
 
 nlohmann::json RetargetOptions::ToJson() const {
   return {{"floating_base", floating_base}, {"reference_time", reference_time}, {"scale", scale},
-          {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale}, {"smoothing", smoothing}};
+          {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale}, {"smoothing", smoothing},
+          {"posture_scale", posture_scale}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -287,7 +289,8 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
   const size_t task_count = tasks.size();
   std::vector<LandmarkSample> reference_samples;
   for (int64_t landmark : task_landmark) reference_samples.push_back(SampleAt(landmarks, reference, landmark));
-  const double posture_weight = map.priority_weights[static_cast<size_t>(map.posture_priority - 1)] * map.posture_weight;
+  const double posture_weight =
+      map.priority_weights[static_cast<size_t>(map.posture_priority - 1)] * map.posture_weight * options.posture_scale;
   FrameIk ik(model, tasks, q_ref, posture_weight);
   std::vector<IkTarget> targets(task_count);
   std::vector<double> position_error, angle_error;

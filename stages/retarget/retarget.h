@@ -31,6 +31,10 @@ struct RetargetOptions {
   double velocity_limit_scale = 1.0;
   // Weight of accelerations in the trajectory refinement (trajectory_refinement.h); 0 = per-frame IK only.
   double smoothing = 1.0;
+  // Multiplies the robot map's posture weight. Joint centres alone (no segment orientations, e.g.
+  // humanml3d22) leave each arm's swivel and wrist free; with the map's posture weight they drift over
+  // minutes until joints pin on their limits, and 10 holds them (archive walk trial: P1 81 -> 14 mm).
+  double posture_scale = 1.0;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;
