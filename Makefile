@@ -157,14 +157,22 @@ T2M_INPUTS ?= derived/mdm_sample0_joints_T22x3 derived/mdm_sample1_joints_T22x3 
 STYLE ?= walk
 project: build
 	@if [ ! -f $(LIBRARY) ]; then $(MAKE) --no-print-directory demo; fi
-	@out=$(OUTPUTS)/project; mkdir -p $$out; : > $$out/summary.txt; \
-	for input in $(T2M_INPUTS); do name=$$(basename $$input); \
-	  $(BIN)/syn-ingest $(T2M_ROOT)/$$input.npy -o $$out/$$name.markers.h5 2> $$out/$$name.log && \
+	@out=$(OUTPUTS)/project; mkdir -p $$out; \
+	printf '%-28s %12s %12s %12s %12s\n' input sliding_raw sliding_proj 'W/kg_raw' 'W/kg_proj' > $$out/summary.txt; \
+	for input in $(T2M_INPUTS); do name=$$(basename $$input); log=$$out/$$name.log; \
+	  $(BIN)/syn-ingest $(T2M_ROOT)/$$input.npy -o $$out/$$name.markers.h5 2> $$log && \
 	  $(BIN)/syn-retarget $$out/$$name.markers.h5 -o $$out/$$name.motion.h5 --model $(COMPOSE_MODEL) --robot-map $(COMPOSE_MAP) \
-	    --markerset manifests/markersets/humanml3d22.toml 2>> $$out/$$name.log && \
+	    --markerset manifests/markersets/humanml3d22.toml 2>> $$log && \
 	  $(BIN)/syn-project $$out/$$name.motion.h5 --library $(LIBRARY) --style $(STYLE) --model $(COMPOSE_MODEL) \
-	    --robot-map $(COMPOSE_MAP) -o $$out/$$name.projected.motion.h5 2>&1 | tee -a $$out/summary.txt || exit 1; \
-	done; echo "make: before/after table in $$out/summary.txt"
+	    --robot-map $(COMPOSE_MAP) -o $$out/$$name.projected.motion.h5 2>> $$log && \
+	  for motion in $$name $$name.projected; do \
+	    $(BIN)/syn-evaluate $$out/$$motion.motion.h5 --model $(COMPOSE_MODEL) --robot-map $(COMPOSE_MAP) --samples 0 \
+	      -o $$out/$$motion.metrics.json 2>> $$log || exit 1; done || { cat $$log; exit 1; }; \
+	  python3 -c 'import json, sys; raw, proj = (json.load(open(f))["trial"] for f in sys.argv[2:]); \
+	    print("%-28s %12.4f %12.4f %12.4f %12.4f" % (sys.argv[1], raw["foot_sliding_ratio"], proj["foot_sliding_ratio"], \
+	    raw["mean_power_w_per_kg"], proj["mean_power_w_per_kg"]))' $$name $$out/$$name.metrics.json \
+	    $$out/$$name.projected.metrics.json >> $$out/summary.txt; \
+	done; cat $$out/summary.txt; echo "make: before/after table in $$out/summary.txt (metrics: syn-evaluate)"
 
 # ---- human vs robot power ----------------------------------------------------------------
 # Every trial of MANIFEST (its markers from `make run`) retargeted onto the paper's HRP-4C model and onto

@@ -13,7 +13,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include "common/error.h"
+#include "common/intermediate_file.h"
 #include "common/version.h"
 
 namespace syn {
@@ -42,8 +45,22 @@ inline void PrintWarnings(const std::string& tool, const std::vector<std::string
   for (const std::string& warning : warnings) std::cerr << tool << ": warning: " << warning << "\n";
 }
 
-inline int RunTool(CLI::App& app, int argc, char** argv, const std::function<void()>& body) {
+// `parameters` (optional) returns the canonical parameters of a run: what goes into the output's
+// `parameters` attribute. With it the tool has `--print-parameters`: parse the other flags (inputs and
+// -o not needed), check them, print that JSON on stdout and exit. syn-plan learns every stage's
+// parameter names and defaults this way, without linking stage code.
+inline int RunTool(CLI::App& app, int argc, char** argv, const std::function<nlohmann::json()>& parameters,
+                   const std::function<void()>& body) {
   const std::string tool = app.get_name();
+  bool print_parameters = false;
+  if (parameters) {
+    app.add_flag("--print-parameters", print_parameters,
+                 "Print the parameters these flags give (the output's `parameters` attribute) as JSON and exit");
+    for (int i = 1; i < argc; ++i) {
+      if (std::string(argv[i]) != "--print-parameters") continue;
+      for (CLI::Option* option : app.get_options()) option->required(false);  // no inputs or -o needed
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& done) {  // --help, --version
@@ -53,6 +70,10 @@ inline int RunTool(CLI::App& app, int argc, char** argv, const std::function<voi
     return 2;
   }
   try {
+    if (print_parameters) {
+      std::cout << CanonicalJson(parameters()) << "\n";
+      return 0;
+    }
     body();
     return 0;
   } catch (const UsageError& error) {
@@ -65,6 +86,10 @@ inline int RunTool(CLI::App& app, int argc, char** argv, const std::function<voi
     std::cerr << tool << ": internal error (please report): " << error.what() << "\n";
     return 1;
   }
+}
+
+inline int RunTool(CLI::App& app, int argc, char** argv, const std::function<void()>& body) {
+  return RunTool(app, argc, argv, nullptr, body);
 }
 
 }  // namespace syn

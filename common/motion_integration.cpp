@@ -5,7 +5,14 @@
 
 #include <Eigen/Geometry>
 
+#include "common/configuration_space.h"
+
 namespace syn {
+namespace {
+
+constexpr int kMaxVelocities = 256;
+
+}  // namespace
 
 double BaseYaw(const double* quaternion_wxyz) {
   const Eigen::Quaterniond rotation(quaternion_wxyz[0], quaternion_wxyz[1], quaternion_wxyz[2], quaternion_wxyz[3]);
@@ -36,22 +43,12 @@ void RotateBaseVelocities(double yaw, double* u) {
 
 void StepConfiguration(bool free_base, const double* q0, const double* v0, const double* v1, double dt, int nq,
                        double* q1) {
-  int q_joint = 0, u_joint = 0;
-  if (free_base) {
-    const Eigen::Vector3d omega = 0.5 * dt * (Eigen::Vector3d(v0[0], v0[1], v0[2]) + Eigen::Vector3d(v1[0], v1[1], v1[2]));
-    const double angle = omega.norm();
-    const Eigen::Quaterniond turn =
-        angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega / angle)) : Eigen::Quaterniond::Identity();
-    const Eigen::Quaterniond next = (turn * Eigen::Quaterniond(q0[0], q0[1], q0[2], q0[3])).normalized();
-    q1[0] = next.w();
-    q1[1] = next.x();
-    q1[2] = next.y();
-    q1[3] = next.z();
-    for (int i = 0; i < 3; ++i) q1[4 + i] = q0[4 + i] + 0.5 * dt * (v0[3 + i] + v1[3 + i]);
-    q_joint = 7;
-    u_joint = 6;
-  }
-  for (int i = 0; q_joint + i < nq; ++i) q1[q_joint + i] = q0[q_joint + i] + 0.5 * dt * (v0[u_joint + i] + v1[u_joint + i]);
+  const ConfigurationShape shape = ConfigurationShape::Of(free_base, nq);
+  // On the stack: this runs once per sample of every Monte-Carlo reconstruction.
+  if (shape.nu > kMaxVelocities) throw std::invalid_argument("StepConfiguration: more than 256 velocities");
+  Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxVelocities, 1> step(shape.nu);
+  for (int i = 0; i < shape.nu; ++i) step[i] = 0.5 * dt * (v0[i] + v1[i]);
+  Integrate(shape, q0, step.data(), q1);
 }
 
 void IntegrateVelocities(bool free_base, const Eigen::VectorXd& q0, const Eigen::VectorXd& times,

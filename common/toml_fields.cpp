@@ -7,9 +7,11 @@ namespace syn {
 
 int LineOf(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
 
-toml::table TomlFields::parseFile() const {
+toml::table TomlFields::parseFile() const { return parseText(ReadFileText(file_)); }
+
+toml::table TomlFields::parseText(const std::string& toml_text) const {
   try {
-    return toml::parse(ReadFileText(file_), file_);
+    return toml::parse(toml_text, file_);
   } catch (const toml::parse_error& error) {
     fail(static_cast<int>(error.source().begin.line), std::string(error.description()));
   }

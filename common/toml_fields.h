@@ -20,6 +20,8 @@ class TomlFields {
 
   // Reads and parses the file; a syntax error is a DataError at its line.
   [[nodiscard]] toml::table parseFile() const;
+  // Parses `toml_text` as the content of the file (tests and fuzzers parse from memory).
+  [[nodiscard]] toml::table parseText(const std::string& toml_text) const;
 
   [[noreturn]] void fail(int line, const std::string& message) const;
   [[noreturn]] void fail(const toml::node& node, const std::string& message) const { fail(LineOf(node), message); }

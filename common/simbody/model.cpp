@@ -1,6 +1,7 @@
 // The Simbody side of common/model.h. Compiled as C++17 with -UNDEBUG (see
 // CMakeLists.txt); nothing from here leaks into public headers.
 #include "common/model.h"
+#include "common/configuration_space.h"
 #include "common/simbody/model_impl.h"
 
 #include <Simbody.h>
@@ -377,6 +378,7 @@ Workspace& Workspace::operator=(Workspace&&) noexcept = default;
 
 void Workspace::setQ(const Eigen::VectorXd& q) {
   Impl& impl = *impl_;
+  CheckSize("Workspace::setQ: q", model_.nq(), q.size());
   impl.q = q;
   if (model_.hasFreeBase()) {
     const double norm = impl.q.head<4>().norm();
@@ -388,6 +390,7 @@ void Workspace::setQ(const Eigen::VectorXd& q) {
 }
 
 void Workspace::setU(const Eigen::VectorXd& u) {
+  CheckSize("Workspace::setU: u", model_.nu(), u.size());
   Impl& impl = *impl_;
   impl.u = u;
   CopyInto(u, impl.state.updU());

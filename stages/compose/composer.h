@@ -35,7 +35,7 @@
 #include "common/model.h"
 #include "common/motion_file.h"
 #include "stages/compose/compose_script.h"
-#include "stages/library/style_library.h"
+#include "common/library_file.h"
 
 namespace syn {
 

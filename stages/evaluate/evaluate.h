@@ -13,7 +13,7 @@
 #include "common/motion_file.h"
 #include "stages/evaluate/motion_metrics.h"
 #include "stages/evaluate/synergy_monte_carlo.h"
-#include "stages/retarget/robot_map.h"
+#include "common/robot_map.h"
 
 namespace syn {
 

@@ -44,7 +44,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--penetration", options.sliding.penetration, "A foot deeper than this below z = 0 counts too, m")
       ->capture_default_str();
-  return syn::RunTool(app, argc, argv, [&] {
+  const auto parameters = [&] {
+    nlohmann::json json = options.ToJson();
+    json["floating_base"] = floating_base;
+    return json;
+  };
+  return syn::RunTool(app, argc, argv, parameters, [&] {
     std::string problem;
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);
     const syn::Model model = syn::LoadModel(model_path, floating_base);

@@ -23,7 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "stages/evaluate/motion_metrics.h"
-#include "stages/synergies/synergies.h"
+#include "common/synergies_file.h"
 
 namespace syn {
 

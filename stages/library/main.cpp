@@ -18,7 +18,8 @@ int main(int argc, char** argv) {
   app.add_option("INPUT", inputs, "Synergies files")->required();
   app.add_option("--style", only_style, "Keep only the trials of this style");
   app.add_option("--components", components, "Size of each style's shared basis")->capture_default_str();
-  return syn::RunTool(app, argc, argv, [&] {
+  const auto parameters = [&] { return nlohmann::json{{"style", only_style}, {"components", components}}; };
+  return syn::RunTool(app, argc, argv, parameters, [&] {
     if (components < 1) throw syn::UsageError("--components must be at least 1");
     std::vector<syn::LabelledTrial> trials;
     std::vector<std::string> sources;
@@ -34,10 +35,10 @@ int main(int argc, char** argv) {
     if (trials.empty()) throw syn::UsageError("no input trial has style '" + only_style + "'");
     const syn::SynergyLibrary library = syn::BuildLibrary(trials, sources, components);
     syn::Provenance provenance;
-    provenance.schema = "synsculpt.library";
-    provenance.schema_version = 1;
+    provenance.schema = syn::kLibrarySchema;
+    provenance.schema_version = syn::kLibrarySchemaVersion;
     provenance.producer = std::string("syn-library ") + syn::kVersion;
-    provenance.parameters = {{"style", only_style}, {"components", components}};
+    provenance.parameters = parameters();
     provenance.inputs = described;
     syn::IntermediateWriter writer(common.output, provenance);
     syn::WriteLibrary(writer, library);

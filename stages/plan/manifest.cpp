@@ -4,29 +4,15 @@
 #include <filesystem>
 #include <set>
 
-#include <toml++/toml.h>
-
 #include "common/error.h"
-#include "common/file_bytes.h"
+#include "common/toml_fields.h"
 
 namespace syn {
 namespace {
 
-int LineOf(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
-
 class ManifestParser {
  public:
-  ManifestParser(std::string path, const std::vector<StageParameterNames>& stages) : path_(std::move(path)), stages_(stages) {}
-
-  [[noreturn]] void fail(int line, const std::string& message) const {
-    throw DataError(Location::AtLine(path_, line), message);
-  }
-
-  std::string text(const toml::node& node, const std::string& key) const {
-    const auto* value = node.as_string();
-    if (!value) fail(LineOf(node), "'" + key + "' must be a string");
-    return value->get();
-  }
+  ManifestParser(std::string path, const std::vector<StageParameterNames>& stages) : fields_(std::move(path)), stages_(stages) {}
 
   const StageParameterNames* stage(const std::string& name) const {
     for (const StageParameterNames& stage : stages_) {
@@ -51,123 +37,118 @@ class ManifestParser {
     if (const auto* value = node.as_integer()) return value->get();
     if (const auto* value = node.as_floating_point()) return value->get();
     if (const auto* value = node.as_boolean()) return value->get();
-    fail(LineOf(node), "parameter '" + key + "' must be a string, number or boolean");
+    fields_.fail(node, "parameter '" + key + "' must be a string, number or boolean");
   }
 
   void addParameters(const toml::node& node, const StageParameterNames& stage, nlohmann::json& into) const {
     const auto* table = node.as_table();
-    if (!table) fail(LineOf(node), "'" + stage.stage + "' must be a table of parameters");
+    if (!table) fields_.fail(node, "'" + stage.stage + "' must be a table of parameters");
     for (const auto& [key, value] : *table) {
       const std::string name(key.str());
       if (std::find(stage.names.begin(), stage.names.end(), name) == stage.names.end()) {
         std::string known;
         for (const std::string& parameter : stage.names) known += (known.empty() ? "" : ", ") + parameter;
-        fail(LineOf(value), "unknown " + stage.stage + " parameter '" + name + "' (known: " + known + ")");
+        fields_.fail(value, "unknown " + stage.stage + " parameter '" + name + "' (known: " + known + ")");
       }
       into[name] = scalar(value, name);
     }
   }
 
   Manifest parse() {
-    toml::table root;
-    try {
-      root = toml::parse(ReadFileText(path_), path_);
-    } catch (const toml::parse_error& error) {
-      fail(static_cast<int>(error.source().begin.line), std::string(error.description()));
-    }
+    const toml::table root = fields_.parseFile();
     Manifest manifest;
-    manifest.path = path_;
+    manifest.path = fields_.file();
     std::map<std::string, nlohmann::json> defaults;
     const toml::array* trials = nullptr;
     int trials_line = 1;
     for (const auto& [key, value] : root) {
       const std::string name(key.str());
       if (name == "name") {
-        manifest.name = text(value, name);
+        manifest.name = fields_.text(value, name);
         const bool ok = !manifest.name.empty() && std::all_of(manifest.name.begin(), manifest.name.end(), [](char c) {
           return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
         });
-        if (!ok) fail(LineOf(value), "'name' may hold only letters, digits, '_' and '-' (it names a folder)");
+        if (!ok) fields_.fail(value, "'name' may hold only letters, digits, '_' and '-' (it names a folder)");
       } else if (name == "version") {
-        manifest.version = text(value, name);
+        manifest.version = fields_.text(value, name);
       } else if (name == "description") {
-        manifest.description = text(value, name);
+        manifest.description = fields_.text(value, name);
       } else if (name == "root") {
-        manifest.root = text(value, name);
+        manifest.root = fields_.text(value, name);
       } else if (name == "model") {
-        manifest.model = text(value, name);
+        manifest.model = fields_.text(value, name);
       } else if (name == "robot_map") {
-        manifest.robot_map = text(value, name);
+        manifest.robot_map = fields_.text(value, name);
       } else if (name == "markerset") {
-        manifest.markerset = text(value, name);
+        manifest.markerset = fields_.text(value, name);
       } else if (name == "trial") {
         trials = value.as_array();
         trials_line = LineOf(value);
-        if (!trials) fail(LineOf(value), "'trial' must be written as [[trial]] tables");
+        if (!trials) fields_.fail(value, "'trial' must be written as [[trial]] tables");
       } else if (const StageParameterNames* stage_names = stage(name)) {
         addParameters(value, *stage_names, defaults[name]);
       } else {
-        fail(LineOf(value), "unknown key '" + name +
+        fields_.fail(value, "unknown key '" + name +
                                 "' (expected name, version, description, root, model, robot_map, markerset, a stage "
                                 "table, or [[trial]])");
       }
     }
-    if (manifest.name.empty()) fail(1, "the manifest needs a 'name'");
-    if (!trials || trials->empty()) fail(trials_line, "the manifest lists no [[trial]]");
+    if (manifest.name.empty()) fields_.fail(1, "the manifest needs a 'name'");
+    if (!trials || trials->empty()) fields_.fail(trials_line, "the manifest lists no [[trial]]");
     for (const std::string* file : {&manifest.model, &manifest.robot_map, &manifest.markerset}) {
-      if (!file->empty() && !std::filesystem::exists(*file)) fail(1, "file not found: " + *file);
+      if (!file->empty() && !std::filesystem::exists(*file)) fields_.fail(1, "file not found: " + *file);
     }
 
     std::set<std::string> ids;
     for (const toml::node& element : *trials) {
       const auto* table = element.as_table();
-      if (!table) fail(LineOf(element), "expected a [[trial]] table");
+      if (!table) fields_.fail(element, "expected a [[trial]] table");
       ManifestTrial trial;
       trial.line = LineOf(element);
       trial.parameters = defaults;
       for (const auto& [key, value] : *table) {
         const std::string name(key.str());
         if (name == "id") {
-          trial.id = text(value, name);
+          trial.id = fields_.text(value, name);
         } else if (name == "subject") {
-          trial.subject = value.is_integer() ? std::to_string(value.as_integer()->get()) : text(value, name);
+          trial.subject = value.is_integer() ? std::to_string(value.as_integer()->get()) : fields_.text(value, name);
         } else if (name == "file") {
-          trial.file = text(value, name);
+          trial.file = fields_.text(value, name);
         } else if (name == "style") {
-          trial.style = text(value, name);
+          trial.style = fields_.text(value, name);
         } else if (name == "motion_class") {
-          trial.motion_class = text(value, name);
+          trial.motion_class = fields_.text(value, name);
         } else if (name == "genre") {
-          trial.genre = text(value, name);
+          trial.genre = fields_.text(value, name);
         } else if (const StageParameterNames* stage_names = stage(name)) {
           addParameters(value, *stage_names, trial.parameters[name]);
         } else if (const StageParameterNames* owner = stageOwning(name)) {
           trial.parameters[owner->stage][name] = scalar(value, name);
         } else {
-          fail(LineOf(value), "unknown trial key '" + name +
+          fields_.fail(value, "unknown trial key '" + name +
                                   "' (expected id, subject, file, style, motion_class, genre, a stage table, or a "
                                   "parameter name of one stage)");
         }
       }
-      if (trial.id.empty()) fail(trial.line, "a trial needs an 'id'");
+      if (trial.id.empty()) fields_.fail(trial.line, "a trial needs an 'id'");
       const bool id_ok = std::all_of(trial.id.begin(), trial.id.end(), [](char c) {
         return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
       });
-      if (!id_ok) fail(trial.line, "trial id '" + trial.id + "' may hold only letters, digits, '_', '-' and '.'");
-      if (!ids.insert(trial.id).second) fail(trial.line, "duplicate trial id '" + trial.id + "'");
-      if (trial.file.empty()) fail(trial.line, "trial '" + trial.id + "' needs a 'file'");
+      if (!id_ok) fields_.fail(trial.line, "trial id '" + trial.id + "' may hold only letters, digits, '_', '-' and '.'");
+      if (!ids.insert(trial.id).second) fields_.fail(trial.line, "duplicate trial id '" + trial.id + "'");
+      if (trial.file.empty()) fields_.fail(trial.line, "trial '" + trial.id + "' needs a 'file'");
       if (trial.style.empty()) trial.style = trial.motion_class.empty() ? "default" : trial.motion_class;
       const bool style_ok = std::all_of(trial.style.begin(), trial.style.end(), [](char c) {
         return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
       });
-      if (!style_ok) fail(trial.line, "style '" + trial.style + "' may hold only letters, digits, '_', '-' and '.' (it names a file)");
+      if (!style_ok) fields_.fail(trial.line, "style '" + trial.style + "' may hold only letters, digits, '_', '-' and '.' (it names a file)");
       manifest.trials.push_back(std::move(trial));
     }
     return manifest;
   }
 
  private:
-  std::string path_;
+  TomlFields fields_;
   const std::vector<StageParameterNames>& stages_;
 };
 

@@ -5,6 +5,8 @@
 
 #include <ceres/ceres.h>
 
+#include "common/configuration_space.h"
+
 namespace syn {
 namespace {
 
@@ -35,6 +37,7 @@ class TrackingCost final : public ceres::CostFunction {
   TrackingCost(const Model& model, const std::vector<IkTask>& tasks, const Eigen::VectorXd& q_reference,
                double posture_weight, double continuity_weight, double acceleration_weight)
       : model_(model),
+        shape_(ConfigurationShape::Of(model.hasFreeBase(), model.nq())),
         workspace_(model),
         tasks_(tasks),
         q_reference_(q_reference),
@@ -68,7 +71,7 @@ class TrackingCost final : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const int nu = model_.nu();
     const Eigen::Map<const Eigen::VectorXd> delta(parameters[0], nu);
-    ApplyVelocityStep(model_, q0_, delta, q_);
+    Integrate(shape_, q0_.data(), delta.data(), q_.data());
     // Ceres evaluates an accepted point twice (cost, then Jacobian): realise each configuration once.
     if (!realized_ || q_ != realized_q_) {
       workspace_.setQ(q_);
@@ -127,6 +130,7 @@ class TrackingCost final : public ceres::CostFunction {
 
  private:
   const Model& model_;
+  const ConfigurationShape shape_;
   mutable Workspace workspace_;
   const std::vector<IkTask>& tasks_;
   const Eigen::VectorXd& q_reference_;
@@ -147,22 +151,6 @@ class TrackingCost final : public ceres::CostFunction {
 };
 
 }  // namespace
-
-void ApplyVelocityStep(const Model& model, const Eigen::VectorXd& q0, const Eigen::VectorXd& delta, Eigen::VectorXd& q) {
-  q = q0;
-  if (!model.hasFreeBase()) {
-    q += delta;
-    return;
-  }
-  const Eigen::Vector3d rotation = delta.head<3>();
-  const double angle = rotation.norm();
-  const Eigen::Quaterniond step =
-      angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, rotation / angle)) : Eigen::Quaterniond::Identity();
-  const Eigen::Quaterniond base = (step * Eigen::Quaterniond(q0[0], q0[1], q0[2], q0[3])).normalized();
-  q[0] = base.w(), q[1] = base.x(), q[2] = base.y(), q[3] = base.z();
-  q.segment<3>(4) += delta.segment<3>(3);
-  q.tail(q.size() - 7) += delta.tail(delta.size() - 6);
-}
 
 struct FrameIk::Impl {
   const Model& model;
@@ -344,7 +332,7 @@ FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::Vecto
   impl.last_step = impl.delta;
   impl.has_last_step = true;
   Eigen::VectorXd solved(q.size());
-  ApplyVelocityStep(impl.model, q, impl.delta, solved);
+  Integrate(ConfigurationShape::Of(impl.model.hasFreeBase(), impl.model.nq()), q, impl.delta, solved);
   q = solved;
   result.final_cost = summary.final_cost;
   result.converged = summary.termination_type == ceres::CONVERGENCE;

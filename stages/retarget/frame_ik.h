@@ -20,7 +20,7 @@
 #include <Eigen/Geometry>
 
 #include "common/model.h"
-#include "stages/retarget/robot_map.h"
+#include "common/robot_map.h"
 
 namespace syn {
 
@@ -100,9 +100,5 @@ class FrameIk {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-// q ⊕ δ: joints and base translation add; a free base's quaternion (q[0..3],
-// w x y z) is rotated by exp(δ[0..2]) in the ground frame.
-void ApplyVelocityStep(const Model& model, const Eigen::VectorXd& q0, const Eigen::VectorXd& delta, Eigen::VectorXd& q);
 
 }  // namespace syn

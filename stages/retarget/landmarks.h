@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "common/marker_data.h"
-#include "stages/retarget/marker_set.h"
+#include "common/marker_set.h"
 
 namespace syn {
 

@@ -1,4 +1,5 @@
 // syn-retarget IN.markers.h5 -o OUT.motion.h5 --model ROBOT.urdf --robot-map MAP.toml --markerset SET.toml
+#include <cstdlib>
 #include <iostream>
 
 #include "common/cli.h"
@@ -21,13 +22,29 @@ int main(int argc, char** argv) {
   app.add_option("--model", options.model, "Robot URDF")->required();
   app.add_option("--robot-map", options.robot_map, "Robot map (manifests/robots/NAME.toml)")->required();
   app.add_option("--markerset", options.markerset, "Marker set (manifests/markersets/NAME.toml)")->required();
-  app.add_option("--floating-base", options.floating_base, "map (as the robot map says) | auto | free | fixed")
-      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--floating-base",
+         [&](const std::string& text) {
+           if (!syn::ParseFloatingBaseChoice(text, &options.floating_base)) {
+             throw CLI::ValidationError("--floating-base", "must be map, auto, free or fixed, not '" + text + "'");
+           }
+         },
+         "map (as the robot map says) | auto | free | fixed")
+      ->default_str("map");
   app.add_option("--reference-time", options.reference_time,
                  "Time (s) of the reference stance; negative: the first frame where every tracked landmark is present")
       ->capture_default_str();
-  app.add_option("--scale", options.scale, "Robot/subject height ratio for landmark displacements, or auto")
-      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--scale",
+         [&](const std::string& text) {
+           char* end = nullptr;
+           const double value = std::strtod(text.c_str(), &end);
+           if (text == "auto") options.scale = 0.0;
+           else if (!text.empty() && *end == '\0' && value > 0) options.scale = value;
+           else throw CLI::ValidationError("--scale", "must be auto or a positive number, not '" + text + "'");
+         },
+         "Robot/subject height ratio for landmark displacements, or auto (measured: head to feet)")
+      ->default_str("auto");
   app.add_option("--velocity-limit-scale", options.velocity_limit_scale,
                  "Bound each frame's joint step by this fraction of the URDF velocity limit (0: unbounded)")
       ->capture_default_str();
@@ -42,12 +59,14 @@ int main(int argc, char** argv) {
   app.add_option("--max-bridge", options.max_bridge,
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")
       ->capture_default_str();
-  return syn::RunTool(app, argc, argv, [&] {
+  return syn::RunTool(app, argc, argv, [&] { return options.ToJson(); }, [&] {
     std::string problem;
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);
     if (common.verbose) std::cerr << "syn-retarget parameters: " << syn::CanonicalJson(options.ToJson()) << "\n";
     syn::RetargetSummary summary;
-    const syn::MotionData motion = syn::Retarget(input, options, &summary);
+    const syn::RetargetInputs inputs = syn::LoadRetargetInputs(input, options);
+    syn::Workspace workspace(inputs.model);
+    const syn::MotionData motion = syn::Retarget(inputs, workspace, options, &summary);
     for (const std::string& note : summary.notes) std::cerr << "syn-retarget: note: " << note << "\n";
 
     syn::Provenance provenance;

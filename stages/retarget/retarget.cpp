@@ -7,13 +7,11 @@
 
 #include <Eigen/Geometry>
 
+#include "common/configuration_space.h"
 #include "common/error.h"
 #include "common/markers_file.h"
-#include "common/model.h"
 #include "stages/retarget/frame_ik.h"
 #include "stages/retarget/landmarks.h"
-#include "stages/retarget/marker_set.h"
-#include "stages/retarget/robot_map.h"
 #include "stages/retarget/trajectory_refinement.h"
 #include "stages/retarget/velocity_estimation.h"
 
@@ -81,171 +79,118 @@ void BridgeGaps(const Model& model, const std::vector<double>& time_s, const std
     }
     for (int64_t t = first; t <= last; ++t) {
       const double fraction = (time_s[static_cast<size_t>(t)] - time_s[static_cast<size_t>(before)]) / span;
-      const double* a = &q[static_cast<size_t>(before * nq)];
-      const double* b = &q[static_cast<size_t>(after * nq)];
-      double* out = &q[static_cast<size_t>(t * nq)];
-      int64_t start = 0;
-      if (model.hasFreeBase()) {
-        const Eigen::Quaterniond qa(a[0], a[1], a[2], a[3]), qb(b[0], b[1], b[2], b[3]);
-        const Eigen::Quaterniond blended = qa.slerp(fraction, qb);
-        out[0] = blended.w(), out[1] = blended.x(), out[2] = blended.y(), out[3] = blended.z();
-        start = 4;
-      }
-      for (int64_t i = start; i < nq; ++i) out[i] = a[i] + fraction * (b[i] - a[i]);
+      Interpolate(ConfigurationShape::Of(model.hasFreeBase(), static_cast<int>(nq)), &q[static_cast<size_t>(before * nq)],
+                  &q[static_cast<size_t>(after * nq)], fraction, &q[static_cast<size_t>(t * nq)]);
     }
     k = end + 1;
   }
 }
 
-}  // namespace
 
-bool RetargetOptions::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& message) {
-    if (error) *error = message;
-    return false;
-  };
-  if (model.empty()) return fail("--model is required (a URDF file)");
-  if (robot_map.empty()) return fail("--robot-map is required (manifests/robots/NAME.toml)");
-  if (markerset.empty()) return fail("--markerset is required (manifests/markersets/NAME.toml)");
-  if (!(smoothing >= 0)) return fail("--smoothing must be >= 0 (0: no trajectory refinement)");
-  if (!(velocity_limit_scale >= 0)) return fail("--velocity-limit-scale must be >= 0 (0: unbounded)");
-  if (floating_base != "map" && floating_base != "auto" && floating_base != "free" && floating_base != "fixed") {
-    return fail("--floating-base must be map, auto, free or fixed");
-  }
-  if (scale != "auto") {
-    char* end = nullptr;
-    const double value = std::strtod(scale.c_str(), &end);
-    if (*end != '\0' || !(value > 0)) return fail("--scale must be auto or a positive number");
-  }
-  if (max_bridge < 0) return fail("--max-bridge must be >= 0");
-  if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
-  return true;
-}
+// The robot map's tasks that the capture's landmarks can feed, as the IK tracks them.
+struct TrackedTasks {
+  std::vector<IkTask> ik;
+  std::vector<int64_t> landmark;  // index into LandmarkTrajectories, per task
+  std::vector<int> priority;      // 1..3, per task
+  size_t size() const { return ik.size(); }
+};
 
-nlohmann::json RetargetOptions::ToJson() const {
-  return {{"floating_base", floating_base}, {"reference_time", reference_time}, {"scale", scale},
-          {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale}, {"smoothing", smoothing},
-          {"posture_scale", posture_scale}};
-}
-
-std::string RetargetSummary::BriefReport() const {
-  std::ostringstream out;
-  out.precision(3);
-  out << frames << " frames, reference frame " << reference_frame << ", scale " << scale << "; median/p95 error "
-      << "P1 " << median_position_error[0] * 1000 << "/" << p95_position_error[0] * 1000 << " mm "
-      << median_angle_error[0] * 180 / M_PI << "/" << p95_angle_error[0] * 180 / M_PI << " deg, "
-      << "P2 " << median_position_error[1] * 1000 << "/" << p95_position_error[1] * 1000 << " mm "
-      << median_angle_error[1] * 180 / M_PI << "/" << p95_angle_error[1] * 180 / M_PI << " deg; worst joint step "
-      << worst_joint_step << " rad (" << worst_joint_step_name << "); IK " << ik_seconds << " s, " << mean_ik_iterations << " iterations/frame; refinement " << refinement_seconds << " s";
-  return out.str();
-}
-
-MotionData Retarget(const std::string& markers_path, const RetargetOptions& options, RetargetSummary* summary) {
-  RetargetSummary local_summary;
-  RetargetSummary& report = summary ? *summary : local_summary;
-  const MarkerData capture = ReadMarkersFile(markers_path);
-  const MarkerSet marker_set = LoadMarkerSet(options.markerset);
-  const RobotMap map = LoadRobotMap(options.robot_map);
-  ModelOptions model_options;
-  model_options.floating_base =
-      FloatingBaseFromName(options.floating_base == "map" ? map.floating_base : options.floating_base);
-  const Model model = Model::Load(options.model, model_options);
-  report.notes.insert(report.notes.end(), model.warnings().begin(), model.warnings().end());
-  const auto joint_names = model.coordinateNames();
-  CheckRobotMapNames(
-      map, [&](const std::string& name) { return model.findLinkIndex(name) >= 0; },
-      [&](const std::string& name) {
-        return std::find(joint_names.begin(), joint_names.end(), name) != joint_names.end();
-      },
-      options.model);
-
-  LandmarkTrajectories landmarks = ComputeLandmarks(capture, marker_set, markers_path);
-  const int64_t frames = landmarks.frames;
-  if (frames == 0) throw DataError(Location::InFile(markers_path), "the capture has no frames");
-
-  // Tasks the capture can feed.
-  std::vector<IkTask> tasks;
-  std::vector<int64_t> task_landmark;
-  std::vector<int> task_priority;
-  for (const RobotTask& task : map.tasks) {
+TrackedTasks SelectTasks(const RetargetInputs& inputs, const LandmarkTrajectories& landmarks,
+                         const RetargetOptions& options, std::vector<std::string>& notes) {
+  TrackedTasks tasks;
+  for (const RobotTask& task : inputs.map.tasks) {
     const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), task.landmark);
     if (found == landmarks.names.end()) {
-      report.notes.push_back("marker set '" + marker_set.name + "' has no " + task.landmark + " landmark: task dropped");
+      notes.push_back("marker set '" + inputs.marker_set.name + "' has no " + task.landmark + " landmark: task dropped");
       continue;
     }
     const int64_t landmark = found - landmarks.names.begin();
     IkTask ik_task;
-    ik_task.link = model.findLinkIndex(task.link);
+    ik_task.link = inputs.model.findLinkIndex(task.link);
     ik_task.type = task.type;
-    ik_task.weight = map.priority_weights[static_cast<size_t>(task.priority - 1)] * task.weight;
+    ik_task.weight = inputs.map.priority_weights[static_cast<size_t>(task.priority - 1)] * task.weight;
     if (!landmarks.has_orientation[static_cast<size_t>(landmark)] && task.type != TaskType::kPosition) {
-      report.notes.push_back(task.landmark + " has no orientation in this marker set: tracked by position only");
+      notes.push_back(task.landmark + " has no orientation in this marker set: tracked by position only");
       ik_task.type = TaskType::kPosition;
     }
-    tasks.push_back(ik_task);
-    task_landmark.push_back(landmark);
-    task_priority.push_back(task.priority);
+    tasks.ik.push_back(ik_task);
+    tasks.landmark.push_back(landmark);
+    tasks.priority.push_back(task.priority);
   }
-  if (tasks.empty()) throw DataError(Location::InFile(options.robot_map), "no task of the robot map can be tracked");
+  if (tasks.ik.empty()) throw DataError(Location::InFile(options.robot_map), "no task of the robot map can be tracked");
+  return tasks;
+}
 
-  // Reference frame.
+// The frame nearest --reference-time, or the first frame where every tracked landmark is present.
+int64_t FindReferenceFrame(const RetargetInputs& inputs, const LandmarkTrajectories& landmarks,
+                           const TrackedTasks& tasks, const RetargetOptions& options) {
   int64_t reference = -1;
+  const int64_t frames = landmarks.frames;
   if (options.reference_time >= 0) {
     double best = std::numeric_limits<double>::infinity();
     for (int64_t t = 0; t < frames; ++t) {
-      const double distance = std::abs(capture.time_s[static_cast<size_t>(t)] - options.reference_time);
+      const double distance = std::abs(inputs.capture.time_s[static_cast<size_t>(t)] - options.reference_time);
       if (distance < best) best = distance, reference = t;
     }
   } else {
     for (int64_t t = 0; t < frames && reference < 0; ++t) {
       bool all = true;
-      for (int64_t landmark : task_landmark) all = all && SampleAt(landmarks, t, landmark).valid;
+      for (int64_t landmark : tasks.landmark) all = all && SampleAt(landmarks, t, landmark).valid;
       if (all) reference = t;
     }
   }
   if (reference < 0) {
-    throw DataError(Location::InFile(markers_path), "no frame has every tracked landmark; give --reference-time");
+    throw DataError(Location::InFile(inputs.capture_path), "no frame has every tracked landmark; give --reference-time");
   }
-  report.reference_frame = reference;
+  return reference;
+}
 
-  // Robot reference stance: q_ref with the soles on the ground.
+// The robot map's reference stance with the soles on the ground (z = 0).
+Eigen::VectorXd GroundedReferenceStance(const Model& model, Workspace& workspace, const RobotMap& map) {
+  const auto joint_names = model.coordinateNames();
   Eigen::VectorXd q_ref = model.defaultQ();
   for (const auto& [joint, value] : map.reference_stance) {
     const auto found = std::find(joint_names.begin(), joint_names.end(), joint);
     q_ref[found - joint_names.begin()] = value;
   }
-  Workspace workspace(model);
-  if (!map.feet.empty()) {
-    auto lowest_sole = [&](const Eigen::VectorXd& q) {
-      workspace.setQ(q);
-      double lowest = std::numeric_limits<double>::infinity();
-      for (const RobotFoot& foot : map.feet) {
-        const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
-        for (const auto& point : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(point[0], point[1], point[2])).z());
-      }
-      return lowest;
-    };
-    const double lowest = lowest_sole(q_ref);
-    if (model.hasFreeBase()) {
-      q_ref[6] -= lowest;
-    } else {
-      // A virtual base chain (HRP-4C): lower the prismatic joint that moves the robot straight up.
-      for (const ModelJoint& joint : model.joints()) {
-        if (joint.type != "prismatic" || model.actuatedVelocities()[static_cast<size_t>(joint.u_index)]) continue;
-        Eigen::VectorXd raised = q_ref;
-        raised[joint.q_index] += 1.0;
-        if (std::abs(lowest_sole(raised) - lowest - 1.0) < 1e-9) {
-          q_ref[joint.q_index] -= lowest;
-          break;
-        }
+  if (map.feet.empty()) return q_ref;
+  auto lowest_sole = [&](const Eigen::VectorXd& q) {
+    workspace.setQ(q);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const RobotFoot& foot : map.feet) {
+      const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
+      for (const auto& point : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(point[0], point[1], point[2])).z());
+    }
+    return lowest;
+  };
+  const double lowest = lowest_sole(q_ref);
+  if (model.hasFreeBase()) {
+    q_ref[6] -= lowest;
+  } else {
+    // A virtual base chain (HRP-4C): lower the prismatic joint that moves the robot straight up.
+    for (const ModelJoint& joint : model.joints()) {
+      if (joint.type != "prismatic" || model.actuatedVelocities()[static_cast<size_t>(joint.u_index)]) continue;
+      Eigen::VectorXd raised = q_ref;
+      raised[joint.q_index] += 1.0;
+      if (std::abs(lowest_sole(raised) - lowest - 1.0) < 1e-9) {
+        q_ref[joint.q_index] -= lowest;
+        break;
       }
     }
   }
-  workspace.setQ(q_ref);
-  std::vector<Eigen::Isometry3d> link_reference;
-  for (const IkTask& task : tasks) link_reference.push_back(workspace.findLinkPose(task.link));
+  return q_ref;
+}
 
-  // Heading and scale from the reference frame.
+// How capture displacements become robot displacements: turned so the subject faces +X, then scaled.
+struct StanceAlignment {
+  Eigen::Matrix3d heading = Eigen::Matrix3d::Identity();
+  double heading_rad = 0.0;
+  double scale = 1.0;
+};
+
+StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
+                             const std::vector<Eigen::Isometry3d>& link_reference, int64_t reference,
+                             const RetargetOptions& options, std::vector<std::string>& notes) {
   auto landmark_position = [&](const char* name, int64_t frame, Eigen::Vector3d* position) {
     const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), name);
     if (found == landmarks.names.end()) return false;
@@ -253,91 +198,102 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
     *position = sample.position;
     return sample.valid;
   };
+  StanceAlignment alignment;
   Eigen::Vector3d left = Eigen::Vector3d::Zero(), a, b;
   for (const auto& [left_name, right_name] : {std::pair{"left_foot", "right_foot"}, {"left_elbow", "right_elbow"}}) {
     if (landmark_position(left_name, reference, &a) && landmark_position(right_name, reference, &b)) left += a - b;
   }
-  const Eigen::Matrix3d heading = HeadingAlignment(left, &report.heading_rad);
-  double scale = 1.0;
-  if (options.scale != "auto") {
-    scale = std::strtod(options.scale.c_str(), nullptr);
+  alignment.heading = HeadingAlignment(left, &alignment.heading_rad);
+  if (options.scale > 0) {
+    alignment.scale = options.scale;
+    return alignment;
+  }
+  Eigen::Vector3d head, left_foot, right_foot;
+  const auto robot_height = [&]() {
+    double head_z = std::nan(""), feet_z = 0;
+    int feet = 0;
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      const std::string& name = landmarks.names[static_cast<size_t>(tasks.landmark[i])];
+      if (name == "head") head_z = link_reference[i].translation().z();
+      if (name == "left_foot" || name == "right_foot") feet_z += link_reference[i].translation().z(), ++feet;
+    }
+    return feet ? head_z - feet_z / feet : std::nan("");
+  };
+  if (landmark_position("head", reference, &head) && landmark_position("left_foot", reference, &left_foot) &&
+      landmark_position("right_foot", reference, &right_foot)) {
+    const double subject = head.z() - 0.5 * (left_foot.z() + right_foot.z());
+    const double robot = robot_height();
+    if (subject > 0.3 && std::isfinite(robot) && robot > 0) alignment.scale = robot / subject;
+    else notes.push_back("could not measure heights (head and feet tasks needed): scale 1");
   } else {
-    Eigen::Vector3d head, left_foot, right_foot;
-    const auto robot_height = [&]() {
-      double head_z = std::nan(""), feet_z = 0;
-      int feet = 0;
-      for (size_t i = 0; i < tasks.size(); ++i) {
-        const std::string& name = landmarks.names[static_cast<size_t>(task_landmark[i])];
-        if (name == "head") head_z = link_reference[i].translation().z();
-        if (name == "left_foot" || name == "right_foot") feet_z += link_reference[i].translation().z(), ++feet;
-      }
-      return feet ? head_z - feet_z / feet : std::nan("");
-    };
-    if (landmark_position("head", reference, &head) && landmark_position("left_foot", reference, &left_foot) &&
-        landmark_position("right_foot", reference, &right_foot)) {
-      const double subject = head.z() - 0.5 * (left_foot.z() + right_foot.z());
-      const double robot = robot_height();
-      if (subject > 0.3 && std::isfinite(robot) && robot > 0) scale = robot / subject;
-      else report.notes.push_back("could not measure heights (head and feet tasks needed): scale 1");
-    } else {
-      report.notes.push_back("head or feet missing at the reference frame: scale 1");
+    notes.push_back("head or feet missing at the reference frame: scale 1");
+  }
+  return alignment;
+}
+
+// One frame's IK targets: each landmark's motion since the reference frame, turned and scaled, applied to
+// its link's reference pose. Stores them in the motion's landmark_targets; false when none is present.
+bool FrameTargets(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
+                  const std::vector<LandmarkSample>& reference_samples, const std::vector<Eigen::Isometry3d>& link_reference,
+                  const StanceAlignment& alignment, int64_t t, std::vector<IkTarget>& targets, MotionData& motion) {
+  const size_t task_count = tasks.size();
+  bool any = false;
+  for (size_t i = 0; i < task_count; ++i) {
+    const LandmarkSample sample = SampleAt(landmarks, t, tasks.landmark[i]);
+    const LandmarkSample& ref = reference_samples[i];
+    IkTarget& target = targets[i];
+    target.active = sample.valid && ref.valid;
+    target.has_orientation = sample.has_orientation && ref.has_orientation;
+    if (!target.active) continue;
+    any = true;
+    target.position = link_reference[i].translation() + alignment.scale * (alignment.heading * (sample.position - ref.position));
+    if (target.has_orientation) {
+      const Eigen::Matrix3d relative = (sample.orientation * ref.orientation.conjugate()).toRotationMatrix();
+      target.orientation =
+          Eigen::Quaterniond(alignment.heading * relative * alignment.heading.transpose() * link_reference[i].linear());
+    }
+    double* stored = &motion.landmark_targets[(static_cast<size_t>(t) * task_count + i) * 7];
+    stored[0] = target.position.x(), stored[1] = target.position.y(), stored[2] = target.position.z();
+    if (target.has_orientation) {
+      stored[3] = target.orientation.w(), stored[4] = target.orientation.x();
+      stored[5] = target.orientation.y(), stored[6] = target.orientation.z();
     }
   }
-  report.scale = scale;
+  return any;
+}
 
-  // Targets per frame and IK.
-  const size_t task_count = tasks.size();
-  std::vector<LandmarkSample> reference_samples;
-  for (int64_t landmark : task_landmark) reference_samples.push_back(SampleAt(landmarks, reference, landmark));
-  const double posture_weight =
-      map.priority_weights[static_cast<size_t>(map.posture_priority - 1)] * map.posture_weight * options.posture_scale;
-  FrameIk ik(model, tasks, q_ref, posture_weight);
-  std::vector<IkTarget> targets(task_count);
-  std::vector<double> position_error, angle_error;
-
+// The empty motion of the model for the capture's frames, with room for the tasks' targets and errors.
+MotionData EmptyMotion(const Model& model, const MarkerData& capture, const LandmarkTrajectories& landmarks,
+                       const TrackedTasks& tasks) {
   MotionData motion;
+  const int64_t frames = landmarks.frames;
   motion.time_s.assign(capture.time_s.begin(), capture.time_s.end());
   motion.coordinate_names = model.coordinateNames();
   motion.velocity_names = model.velocityNames();
   motion.model_name = model.name();
   motion.model_sha256 = model.sourceSha256();
   motion.total_mass = model.totalMass();
-  const int64_t nq = model.nq(), nu = model.nu();
-  motion.q.resize(static_cast<size_t>(frames * nq));
-  motion.landmark_names.clear();
-  for (size_t i = 0; i < task_count; ++i) motion.landmark_names.push_back(landmarks.names[static_cast<size_t>(task_landmark[i])]);
-  motion.landmark_targets.assign(static_cast<size_t>(frames) * task_count * 7, std::nan(""));
-  motion.landmark_error.assign(static_cast<size_t>(frames) * task_count * 2, std::nan(""));
+  motion.q.resize(static_cast<size_t>(frames * model.nq()));
+  for (size_t i = 0; i < tasks.size(); ++i) motion.landmark_names.push_back(landmarks.names[static_cast<size_t>(tasks.landmark[i])]);
+  motion.landmark_targets.assign(static_cast<size_t>(frames) * tasks.size() * 7, std::nan(""));
+  motion.landmark_error.assign(static_cast<size_t>(frames) * tasks.size() * 2, std::nan(""));
+  return motion;
+}
 
-  std::array<std::vector<double>, 3> position_by_level, angle_by_level;
-  std::vector<int64_t> bridged;
-  std::vector<std::vector<IkTarget>> frame_targets(static_cast<size_t>(frames));
+// Per-frame IK over the whole capture, each frame warm-started from the previous one. Frames with no
+// target keep the previous solution and are listed in `bridged`; `frame_targets` keeps what each solved
+// frame tracked, for the refinement.
+void SolveFrames(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
+                 const std::vector<LandmarkSample>& reference_samples, const std::vector<Eigen::Isometry3d>& link_reference,
+                 const StanceAlignment& alignment, const Eigen::VectorXd& q_ref, const RetargetOptions& options,
+                 FrameIk& ik, MotionData& motion, std::vector<std::vector<IkTarget>>& frame_targets,
+                 std::vector<int64_t>& bridged, RetargetSummary& report) {
+  const int64_t frames = landmarks.frames, nq = static_cast<int64_t>(q_ref.size());
+  std::vector<IkTarget> targets(tasks.size());
   Eigen::VectorXd q = q_ref;
   double last_solved_time = std::nan("");  // the first solve may travel from q_ref freely
-  const auto start = std::chrono::steady_clock::now();
   for (int64_t t = 0; t < frames; ++t) {
-    bool any = false;
-    for (size_t i = 0; i < task_count; ++i) {
-      const LandmarkSample sample = SampleAt(landmarks, t, task_landmark[i]);
-      const LandmarkSample& ref = reference_samples[i];
-      IkTarget& target = targets[i];
-      target.active = sample.valid && ref.valid;
-      target.has_orientation = sample.has_orientation && ref.has_orientation;
-      if (!target.active) continue;
-      any = true;
-      target.position = link_reference[i].translation() + scale * (heading * (sample.position - ref.position));
-      if (target.has_orientation) {
-        const Eigen::Matrix3d relative = (sample.orientation * ref.orientation.conjugate()).toRotationMatrix();
-        target.orientation = Eigen::Quaterniond(heading * relative * heading.transpose() * link_reference[i].linear());
-      }
-      double* stored = &motion.landmark_targets[(static_cast<size_t>(t) * task_count + i) * 7];
-      stored[0] = target.position.x(), stored[1] = target.position.y(), stored[2] = target.position.z();
-      if (target.has_orientation) {
-        stored[3] = target.orientation.w(), stored[4] = target.orientation.x();
-        stored[5] = target.orientation.y(), stored[6] = target.orientation.z();
-      }
-    }
-    if (!any) {
+    if (!FrameTargets(landmarks, tasks, reference_samples, link_reference, alignment, t, targets, motion)) {
       bridged.push_back(t);
       ik.forgetHistory();
     } else {
@@ -361,17 +317,18 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
     }
     std::copy(q.data(), q.data() + nq, motion.q.begin() + t * nq);
   }
-  report.ik_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report.mean_ik_iterations /= static_cast<double>(std::max<int64_t>(1, frames - static_cast<int64_t>(bridged.size())));
-  BridgeGaps(model, motion.time_s, bridged, options.max_bridge, markers_path, motion.q);
-  const auto refine_start = std::chrono::steady_clock::now();
-  RefinementOptions refinement;
-  refinement.smoothing = options.smoothing;
-  refinement.velocity_limit_scale = options.velocity_limit_scale;
-  RefineTrajectory(ik, model, frame_targets, motion.time_s, motion.q, refinement);
-  report.refinement_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - refine_start).count();
-  // Landmark errors of the final trajectory.
-  for (int64_t t = 0; t < frames; ++t) {
+}
+
+// Each task's position and angle error on the final trajectory, stored per frame and summarised per
+// priority level.
+void MeasureLandmarkErrors(FrameIk& ik, const TrackedTasks& tasks, const std::vector<std::vector<IkTarget>>& frame_targets,
+                           int64_t nq, MotionData& motion, RetargetSummary& report) {
+  const size_t task_count = tasks.size();
+  std::array<std::vector<double>, 3> position_by_level, angle_by_level;
+  std::vector<double> position_error, angle_error;
+  Eigen::VectorXd q(nq);
+  for (int64_t t = 0; t < motion.frames(); ++t) {
     const std::vector<IkTarget>& frame = frame_targets[static_cast<size_t>(t)];
     if (frame.empty()) continue;
     q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
@@ -379,8 +336,8 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
     for (size_t i = 0; i < task_count; ++i) {
       motion.landmark_error[(static_cast<size_t>(t) * task_count + i) * 2] = position_error[i];
       motion.landmark_error[(static_cast<size_t>(t) * task_count + i) * 2 + 1] = angle_error[i];
-      position_by_level[static_cast<size_t>(task_priority[i] - 1)].push_back(position_error[i]);
-      angle_by_level[static_cast<size_t>(task_priority[i] - 1)].push_back(angle_error[i]);
+      position_by_level[static_cast<size_t>(tasks.priority[i] - 1)].push_back(position_error[i]);
+      angle_by_level[static_cast<size_t>(tasks.priority[i] - 1)].push_back(angle_error[i]);
     }
   }
   for (size_t level = 0; level < 3; ++level) {
@@ -389,8 +346,11 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
     report.median_angle_error[level] = Percentile(angle_by_level[level], 0.5);
     report.p95_angle_error[level] = Percentile(angle_by_level[level], 0.95);
   }
+}
 
-  // Velocities, accelerations and the torques that produce them.
+// Velocities, accelerations and the torques that produce them (Simbody inverse dynamics).
+void ComputeDynamics(const Model& model, Workspace& workspace, MotionData& motion) {
+  const int64_t frames = motion.frames(), nq = model.nq(), nu = model.nu();
   EstimateVelocities(model, motion.time_s, motion.q, motion.u, motion.udot);
   motion.tau.resize(static_cast<size_t>(frames * nu));
   Eigen::VectorXd frame_q(nq), frame_u(nu), frame_udot(nu), frame_tau(nu);
@@ -403,10 +363,13 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
     workspace.calcInverseDynamics(frame_udot, frame_tau);
     std::copy(frame_tau.data(), frame_tau.data() + nu, motion.tau.begin() + t * nu);
   }
+}
 
-  // Continuity: the largest per-frame change of any joint coordinate.
+// Continuity: the largest per-frame change of any joint coordinate.
+void FindWorstJointStep(const Model& model, const MotionData& motion, RetargetSummary& report) {
+  const int64_t nq = model.nq();
   const int first_joint = model.hasFreeBase() ? 7 : 0;
-  for (int64_t t = 1; t < frames; ++t) {
+  for (int64_t t = 1; t < motion.frames(); ++t) {
     for (int64_t i = first_joint; i < nq; ++i) {
       const double step = std::abs(motion.q[static_cast<size_t>(t * nq + i)] - motion.q[static_cast<size_t>((t - 1) * nq + i)]);
       if (step > report.worst_joint_step) {
@@ -416,8 +379,140 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
       }
     }
   }
+}
+
+}  // namespace
+
+const char* FloatingBaseChoiceName(FloatingBaseChoice choice) {
+  switch (choice) {
+    case FloatingBaseChoice::kFromMap: return "map";
+    case FloatingBaseChoice::kAuto: return "auto";
+    case FloatingBaseChoice::kFree: return "free";
+    case FloatingBaseChoice::kFixed: return "fixed";
+  }
+  return "?";
+}
+
+bool ParseFloatingBaseChoice(const std::string& text, FloatingBaseChoice* choice) {
+  for (FloatingBaseChoice candidate : {FloatingBaseChoice::kFromMap, FloatingBaseChoice::kAuto, FloatingBaseChoice::kFree,
+                                       FloatingBaseChoice::kFixed}) {
+    if (text == FloatingBaseChoiceName(candidate)) {
+      *choice = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool RetargetOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (model.empty()) return fail("--model is required (a URDF file)");
+  if (robot_map.empty()) return fail("--robot-map is required (manifests/robots/NAME.toml)");
+  if (markerset.empty()) return fail("--markerset is required (manifests/markersets/NAME.toml)");
+  if (!(smoothing >= 0)) return fail("--smoothing must be >= 0 (0: no trajectory refinement)");
+  if (!(velocity_limit_scale >= 0)) return fail("--velocity-limit-scale must be >= 0 (0: unbounded)");
+  if (!(scale >= 0)) return fail("--scale must be auto or a positive number");
+  if (max_bridge < 0) return fail("--max-bridge must be >= 0");
+  if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
+  return true;
+}
+
+nlohmann::json RetargetOptions::ToJson() const {
+  nlohmann::json scale_json = "auto";
+  if (scale > 0) scale_json = scale;
+  return {{"floating_base", FloatingBaseChoiceName(floating_base)}, {"reference_time", reference_time},
+          {"scale", scale_json}, {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale},
+          {"smoothing", smoothing}, {"posture_scale", posture_scale}};
+}
+
+std::string RetargetSummary::BriefReport() const {
+  std::ostringstream out;
+  out.precision(3);
+  out << frames << " frames, reference frame " << reference_frame << ", scale " << scale << "; median/p95 error "
+      << "P1 " << median_position_error[0] * 1000 << "/" << p95_position_error[0] * 1000 << " mm "
+      << median_angle_error[0] * 180 / M_PI << "/" << p95_angle_error[0] * 180 / M_PI << " deg, "
+      << "P2 " << median_position_error[1] * 1000 << "/" << p95_position_error[1] * 1000 << " mm "
+      << median_angle_error[1] * 180 / M_PI << "/" << p95_angle_error[1] * 180 / M_PI << " deg; worst joint step "
+      << worst_joint_step << " rad (" << worst_joint_step_name << "); IK " << ik_seconds << " s, " << mean_ik_iterations << " iterations/frame; refinement " << refinement_seconds << " s";
+  return out.str();
+}
+
+RetargetInputs LoadRetargetInputs(const std::string& markers_path, const RetargetOptions& options) {
+  RobotMap map = LoadRobotMap(options.robot_map);
+  ModelOptions model_options;
+  model_options.floating_base = FloatingBaseFromName(
+      options.floating_base == FloatingBaseChoice::kFromMap ? map.floating_base : FloatingBaseChoiceName(options.floating_base));
+  Model model = Model::Load(options.model, model_options);
+  const auto joint_names = model.coordinateNames();
+  CheckRobotMapNames(
+      map, [&](const std::string& name) { return model.findLinkIndex(name) >= 0; },
+      [&](const std::string& name) {
+        return std::find(joint_names.begin(), joint_names.end(), name) != joint_names.end();
+      },
+      options.model);
+  return RetargetInputs{markers_path, ReadMarkersFile(markers_path), LoadMarkerSet(options.markerset), std::move(map),
+                        std::move(model)};
+}
+
+MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const RetargetOptions& options,
+                    RetargetSummary* summary) {
+  RetargetSummary local_summary;
+  RetargetSummary& report = summary ? *summary : local_summary;
+  const Model& model = inputs.model;
+  report.notes.insert(report.notes.end(), model.warnings().begin(), model.warnings().end());
+
+  const LandmarkTrajectories landmarks = ComputeLandmarks(inputs.capture, inputs.marker_set, inputs.capture_path);
+  const int64_t frames = landmarks.frames;
+  if (frames == 0) throw DataError(Location::InFile(inputs.capture_path), "the capture has no frames");
+  const TrackedTasks tasks = SelectTasks(inputs, landmarks, options, report.notes);
+  const int64_t reference = FindReferenceFrame(inputs, landmarks, tasks, options);
+  report.reference_frame = reference;
+
+  const Eigen::VectorXd q_ref = GroundedReferenceStance(model, workspace, inputs.map);
+  workspace.setQ(q_ref);
+  std::vector<Eigen::Isometry3d> link_reference;
+  for (const IkTask& task : tasks.ik) link_reference.push_back(workspace.findLinkPose(task.link));
+  const StanceAlignment alignment = AlignToRobot(landmarks, tasks, link_reference, reference, options, report.notes);
+  report.heading_rad = alignment.heading_rad;
+  report.scale = alignment.scale;
+
+  std::vector<LandmarkSample> reference_samples;
+  for (int64_t landmark : tasks.landmark) reference_samples.push_back(SampleAt(landmarks, reference, landmark));
+  const RobotMap& map = inputs.map;
+  const double posture_weight =
+      map.priority_weights[static_cast<size_t>(map.posture_priority - 1)] * map.posture_weight * options.posture_scale;
+  FrameIk ik(model, tasks.ik, q_ref, posture_weight);
+
+  MotionData motion = EmptyMotion(model, inputs.capture, landmarks, tasks);
+  std::vector<int64_t> bridged;
+  std::vector<std::vector<IkTarget>> frame_targets(static_cast<size_t>(frames));
+  const auto start = std::chrono::steady_clock::now();
+  SolveFrames(landmarks, tasks, reference_samples, link_reference, alignment, q_ref, options, ik, motion, frame_targets,
+              bridged, report);
+  report.ik_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  BridgeGaps(model, motion.time_s, bridged, options.max_bridge, inputs.capture_path, motion.q);
+
+  const auto refine_start = std::chrono::steady_clock::now();
+  RefinementOptions refinement;
+  refinement.smoothing = options.smoothing;
+  refinement.velocity_limit_scale = options.velocity_limit_scale;
+  RefineTrajectory(ik, model, frame_targets, motion.time_s, motion.q, refinement);
+  report.refinement_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - refine_start).count();
+
+  MeasureLandmarkErrors(ik, tasks, frame_targets, model.nq(), motion, report);
+  ComputeDynamics(model, workspace, motion);
+  FindWorstJointStep(model, motion, report);
   report.frames = frames;
   return motion;
+}
+
+MotionData RetargetFile(const std::string& markers_path, const RetargetOptions& options, RetargetSummary* summary) {
+  const RetargetInputs inputs = LoadRetargetInputs(markers_path, options);
+  Workspace workspace(inputs.model);
+  return Retarget(inputs, workspace, options, summary);
 }
 
 }  // namespace syn

@@ -1,5 +1,12 @@
 // syn-retarget: landmark trajectories of a capture -> a humanoid motion
-// (q, u, udot, tau) by per-frame IK and Simbody inverse dynamics.
+// (q, u, udot, tau) by per-frame IK, a trajectory refinement and Simbody
+// inverse dynamics.
+//
+// The steps (retarget.cpp): pick the robot map's tasks the capture can feed;
+// find the reference stance; place the robot's reference stance on the ground;
+// turn and scale the capture to the robot; solve every frame; bridge short
+// gaps; refine the trajectory; measure the landmark errors; compute
+// velocities, accelerations and torques.
 #pragma once
 
 #include <array>
@@ -8,21 +15,31 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/marker_data.h"
+#include "common/marker_set.h"
+#include "common/model.h"
 #include "common/motion_file.h"
+#include "common/robot_map.h"
 
 namespace syn {
+
+// Which floating base the robot gets: the robot map's choice, or one named here (common/model.h).
+enum class FloatingBaseChoice { kFromMap, kAuto, kFree, kFixed };
+[[nodiscard]] const char* FloatingBaseChoiceName(FloatingBaseChoice choice);
+// "map", "auto", "free" or "fixed"; false for anything else.
+[[nodiscard]] bool ParseFloatingBaseChoice(const std::string& text, FloatingBaseChoice* choice);
 
 struct RetargetOptions {
   std::string model;          // URDF
   std::string robot_map;      // manifests/robots/NAME.toml
   std::string markerset;      // manifests/markersets/NAME.toml
-  std::string floating_base = "map";  // "map" = as the robot map says; or auto | free | fixed
-  // Reference stance: the first frame at which every tracked landmark is
-  // present, or the frame nearest this time (s) if >= 0.
+  FloatingBaseChoice floating_base = FloatingBaseChoice::kFromMap;
+  // Reference stance: the first frame at which every tracked landmark is present, or the frame nearest
+  // this time (s) if >= 0.
   double reference_time = -1.0;
-  // Robot height / subject height for landmark displacements; "auto" measures
-  // both (vertical distance from the feet to the head landmark).
-  std::string scale = "auto";
+  // Robot height / subject height for landmark displacements; 0 = measure both (vertical distance from
+  // the feet to the head landmark).
+  double scale = 0.0;
   // Frames with no target at all are bridged when the gap is at most this long (s).
   double max_bridge = 0.25;
   // Each frame's joint step is bounded by this fraction of the URDF velocity limit times the time since
@@ -57,7 +74,24 @@ struct RetargetSummary {
   std::string BriefReport() const;
 };
 
-[[nodiscard]] MotionData Retarget(const std::string& markers_path, const RetargetOptions& options,
+// Everything a retargeting run reads from files, loaded and checked against each other (the map's links
+// and joints exist in the model).
+struct RetargetInputs {
+  std::string capture_path;
+  MarkerData capture;
+  MarkerSet marker_set;
+  RobotMap map;
+  Model model;
+};
+
+[[nodiscard]] RetargetInputs LoadRetargetInputs(const std::string& markers_path, const RetargetOptions& options);
+
+// The motion of `inputs.model` that tracks the capture's landmarks. `workspace` belongs to that model.
+[[nodiscard]] MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const RetargetOptions& options,
                                   RetargetSummary* summary);
+
+// LoadRetargetInputs, then Retarget (tests and benchmarks).
+[[nodiscard]] MotionData RetargetFile(const std::string& markers_path, const RetargetOptions& options,
+                                      RetargetSummary* summary);
 
 }  // namespace syn

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/configuration_space.h"
 #include "stages/retarget/block_banded_system.h"
 
 namespace syn {
@@ -112,7 +113,7 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
   Eigen::VectorXd refined(nq);
   for (int64_t t = 0; t < frames; ++t) {
     frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
-    ApplyVelocityStep(model, frame_q, correction[static_cast<size_t>(t)], refined);
+    Integrate(ConfigurationShape::Of(model.hasFreeBase(), model.nq()), frame_q, correction[static_cast<size_t>(t)], refined);
     for (int u = first_joint; u < nu; ++u) {
       double lower = model.qLower()[u + q_offset], upper = model.qUpper()[u + q_offset];
       // The velocity limit from the previous (already final) frame: the smoothing does not bound

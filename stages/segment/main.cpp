@@ -27,8 +27,15 @@ int main(int argc, char** argv) {
   app.add_option("--min-duration", options.min_duration, "Shortest segment, s (reference implementation: 0.8)")
       ->capture_default_str();
   app.add_option("--momentum", options.momentum, "generalized (A u) | centroidal (about the centre of mass)")
-      ->capture_default_str();
-  return syn::RunTool(app, argc, argv, [&] {
+      ->transform(CLI::CheckedTransformer(std::map<std::string, syn::MomentumKind>{
+          {"generalized", syn::MomentumKind::kGeneralized}, {"centroidal", syn::MomentumKind::kCentroidal}}))
+      ->default_str("generalized");
+  const auto parameters = [&] {
+    nlohmann::json json = options.ToJson();
+    json["floating_base"] = floating_base;
+    return json;
+  };
+  return syn::RunTool(app, argc, argv, parameters, [&] {
     std::string problem;
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);
     const syn::Model model = syn::LoadModel(model_path, floating_base);
@@ -37,19 +44,13 @@ int main(int argc, char** argv) {
     const syn::Segmentation segmentation = syn::SegmentMotion(motion, model, options);
 
     syn::Provenance provenance;
-    provenance.schema = "synsculpt.segments";
-    provenance.schema_version = 1;
+    provenance.schema = syn::kSegmentsSchema;
+    provenance.schema_version = syn::kSegmentsSchemaVersion;
     provenance.producer = std::string("syn-segment ") + syn::kVersion;
-    provenance.parameters = options.ToJson();
-    provenance.parameters["floating_base"] = floating_base;
+    provenance.parameters = parameters();
     provenance.inputs = nlohmann::json::array({syn::DescribeInput(input), syn::DescribeInput(model_path)});
     syn::IntermediateWriter writer(common.output, provenance);
-    writer.writeDoubles("analysis_time", segmentation.analysis_time);
-    writer.writeDoubles("delta_p", segmentation.delta_p);
-    writer.writeInts("boundaries", segmentation.boundaries);
-    writer.writeStrings("boundary_reasons", segmentation.reasons);
-    writer.writeAttribute("", "threshold_used", segmentation.threshold_used);
-    writer.writeAttribute("", "analysis_rate", options.analysis_rate);
+    syn::WriteSegmentsData(writer, segmentation);
     writer.commit();
     if (common.verbose) {
       for (size_t i = 0; i < segmentation.reasons.size(); ++i) {

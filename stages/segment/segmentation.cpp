@@ -4,9 +4,14 @@
 #include <cmath>
 #include <sstream>
 
+#include "common/configuration_space.h"
 #include "common/error.h"
 
 namespace syn {
+
+const char* MomentumKindName(MomentumKind kind) {
+  return kind == MomentumKind::kCentroidal ? "centroidal" : "generalized";
+}
 
 bool SegmentOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& message) {
@@ -19,13 +24,12 @@ bool SegmentOptions::IsValid(std::string* error) const {
   }
   if (!(analysis_rate > 0)) return fail("--analysis-rate must be positive");
   if (!(min_duration >= 0)) return fail("--min-duration must be >= 0");
-  if (momentum != "generalized" && momentum != "centroidal") return fail("--momentum must be generalized or centroidal");
   return true;
 }
 
 nlohmann::json SegmentOptions::ToJson() const {
   return {{"threshold", threshold}, {"threshold_quantile", threshold_quantile}, {"analysis_rate", analysis_rate},
-          {"min_duration", min_duration}, {"momentum", momentum}};
+          {"min_duration", min_duration}, {"momentum", MomentumKindName(momentum)}};
 }
 
 Segmentation SegmentMotion(const MotionData& motion, const Model& model, const SegmentOptions& options) {
@@ -33,12 +37,12 @@ Segmentation SegmentMotion(const MotionData& motion, const Model& model, const S
   const int64_t frames = motion.frames();
   const int64_t nq = motion.nq(), nu = motion.nu();
   Segmentation result;
+  result.analysis_rate = options.analysis_rate;
   if (frames == 0) return result;
 
-  // The state at each analysis instant (linear between frames; a free base's quaternion by normalised
-  // lerp), then its momentum: one Simbody A·u per analysis sample, wherever the motion's frames fall.
-  const int width = options.momentum == "centroidal" ? 6 : static_cast<int>(nu);
-  const bool free_base = model.hasFreeBase();
+  // The state at each analysis instant (linear between frames; a free base's orientation by slerp), then its momentum: one Simbody A·u per analysis sample, wherever the motion's frames fall.
+  const int width = options.momentum == MomentumKind::kCentroidal ? 6 : static_cast<int>(nu);
+  const ConfigurationShape shape = ConfigurationShape::Of(model.hasFreeBase(), static_cast<int>(nq));
   Workspace workspace(model);
   Eigen::VectorXd q(nq), u(nu), p(width), p_before(width);
   const double start = motion.time_s.front(), end = motion.time_s.back();
@@ -57,13 +61,10 @@ Segmentation SegmentMotion(const MotionData& motion, const Model& model, const S
     const double* q1 = &motion.q[next * static_cast<size_t>(nq)];
     const double* u0 = &motion.u[segment * static_cast<size_t>(nu)];
     const double* u1 = &motion.u[next * static_cast<size_t>(nu)];
-    for (int64_t k = 0; k < nq; ++k) q[k] = (1 - fraction) * q0[k] + fraction * q1[k];
-    if (free_base && q0[0] * q1[0] + q0[1] * q1[1] + q0[2] * q1[2] + q0[3] * q1[3] < 0) {
-      for (int k = 0; k < 4; ++k) q[k] = (1 - fraction) * q0[k] - fraction * q1[k];  // the same rotation, nearer sign
-    }
+    Interpolate(shape, q0, q1, fraction, q.data());
     for (int64_t k = 0; k < nu; ++k) u[k] = (1 - fraction) * u0[k] + fraction * u1[k];
     workspace.setQ(q);  // normalises the quaternion
-    if (options.momentum == "centroidal") {
+    if (options.momentum == MomentumKind::kCentroidal) {
       workspace.setU(u);
       p = workspace.calcCentroidalMomentum();
     } else {

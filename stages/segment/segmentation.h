@@ -18,27 +18,29 @@
 
 #include "common/model.h"
 #include "common/motion_file.h"
+#include "common/segments_file.h"
 
 namespace syn {
+
+enum class MomentumKind {
+  kGeneralized,  // p = A(q) u, the paper's
+  kCentroidal,   // whole-body angular and linear momentum about the centre of mass
+};
+[[nodiscard]] const char* MomentumKindName(MomentumKind kind);
 
 struct SegmentOptions {
   double threshold = 0.75;          // ΔP_th: paper, Sec. III-B
   double threshold_quantile = -1;   // in (0, 1): use this quantile of ΔP as the threshold instead
   double analysis_rate = 100.0;     // Hz: paper, Fig. 3
   double min_duration = 0.8;        // s: the reference implementation's cooldown between boundaries
-  std::string momentum = "generalized";  // or "centroidal" (whole-body linear + angular momentum about the COM)
+  MomentumKind momentum = MomentumKind::kGeneralized;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;
 };
 
-struct Segmentation {
-  std::vector<double> analysis_time;     // [Ta] s
-  std::vector<double> delta_p;           // [Ta], ΔP at each analysis sample (0 at the first)
-  std::vector<int64_t> boundaries;       // [S+1] frame indices into the motion: 0, ..., T
-  std::vector<std::string> reasons;      // [S+1] why each boundary was placed
-  double threshold_used = 0.0;
-};
+// What syn-segment finds is what its file holds.
+using Segmentation = SegmentsData;
 
 // Throws DataError if the motion does not belong to the model (SHA-256 differs).
 [[nodiscard]] Segmentation SegmentMotion(const MotionData& motion, const Model& model, const SegmentOptions& options);

@@ -11,7 +11,7 @@
 #include "common/file_bytes.h"
 
 #include <nlohmann/json.hpp>
-#include "stages/synergies/synergies.h"
+#include "common/synergies_file.h"
 
 namespace syn {
 namespace {
@@ -89,7 +89,7 @@ void WriteSummaryTable(const std::vector<std::string>& synergies_files, const st
   for (size_t f = 0; f < synergies_files.size(); ++f) {
     const std::string& file = synergies_files[f];
     const nlohmann::json metrics = metrics_files.empty() ? nlohmann::json() : ReadMetrics(metrics_files[f]);
-    SynergyOptions labels;
+    SynergyLabels labels;
     const TrialSynergies trial = ReadTrialSynergies(file, &labels);
     double duration = 0, explained = 0;
     std::vector<int> k90;
@@ -150,7 +150,7 @@ void WritePowerRatioTable(const std::vector<std::string>& synergies_files,
   std::ostringstream text;
   text << "trial,subject,motion_class,human_w_per_kg,robot_w_per_kg,robot_over_human\n";
   for (size_t f = 0; f < synergies_files.size(); ++f) {
-    SynergyOptions labels;
+    SynergyLabels labels;
     (void)ReadTrialSynergies(synergies_files[f], &labels);
     const double robot = TrialPower(ReadMetrics(robot_metrics_files[f]), robot_metrics_files[f]);
     const double human = TrialPower(ReadMetrics(human_metrics_files[f]), human_metrics_files[f]);

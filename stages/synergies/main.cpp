@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "common/cli.h"
+#include "common/segments_file.h"
 #include "stages/synergies/synergies.h"
 
 int main(int argc, char** argv) {
@@ -18,17 +19,20 @@ int main(int argc, char** argv) {
   app.add_option("SEGMENTS", segments_path, "Segments file (syn-segment)")->required();
   app.add_option("--components", options.components, "Synergies kept per segment (paper: 3)")->capture_default_str();
   app.add_option("--velocities", options.velocities,
-                 "all (free-base velocities in the pelvis heading frame) | joints")->capture_default_str();
-  app.add_option("--subject", options.subject, "Label: subject");
-  app.add_option("--trial", options.trial, "Label: trial id");
-  app.add_option("--style", options.style, "Label: style library the trial joins");
-  app.add_option("--motion-class", options.motion_class, "Label: motion class");
-  return syn::RunTool(app, argc, argv, [&] {
+                 "all (free-base velocities in the pelvis heading frame) | joints")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, syn::VelocitySet>{{"all", syn::VelocitySet::kAll}, {"joints", syn::VelocitySet::kJoints}}))
+      ->default_str("all");
+  app.add_option("--subject", options.labels.subject, "Label: subject");
+  app.add_option("--trial", options.labels.trial, "Label: trial id");
+  app.add_option("--style", options.labels.style, "Label: style library the trial joins");
+  app.add_option("--motion-class", options.labels.motion_class, "Label: motion class");
+  return syn::RunTool(app, argc, argv, [&] { return options.ToJson(); }, [&] {
     std::string problem;
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);
     const syn::MotionData motion = syn::ReadMotionFile(motion_path);
-    const syn::IntermediateReader segments(segments_path, "synsculpt.segments", 1);
-    const syn::TrialSynergies synergies = syn::ComputeTrialSynergies(motion, segments.readInts("boundaries"), options);
+    const syn::SegmentsData segments = syn::ReadSegmentsFile(segments_path);
+    const syn::TrialSynergies synergies = syn::ComputeTrialSynergies(motion, segments.boundaries, options);
     syn::Provenance provenance;
     provenance.schema = syn::kSynergiesSchema;
     provenance.schema_version = syn::kSynergiesSchemaVersion;
@@ -36,7 +40,7 @@ int main(int argc, char** argv) {
     provenance.parameters = options.ToJson();
     provenance.inputs = nlohmann::json::array({syn::DescribeInput(motion_path), syn::DescribeInput(segments_path)});
     syn::IntermediateWriter writer(common.output, provenance);
-    syn::WriteTrialSynergies(writer, synergies, options);
+    syn::WriteTrialSynergies(writer, synergies, options.labels);
     writer.commit();
     double three = 0;
     for (const auto& segment : synergies.segments) three += segment.synergies.explained_variance_ratio.sum();

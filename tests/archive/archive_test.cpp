@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 
 #include "common/file_bytes.h"
-#include "stages/archive/archive_generator.h"
+#include "tools/archive/archive_generator.h"
 #include "stages/ingest/ingest.h"
 #include "tests/support/shared_data.h"
 

@@ -10,7 +10,7 @@
 #include "common/assembler_tracking.h"
 #include "common/model.h"
 #include "stages/retarget/frame_ik.h"
-#include "stages/retarget/robot_map.h"
+#include "common/robot_map.h"
 #include "stages/retarget/trajectory_refinement.h"
 
 namespace syn {

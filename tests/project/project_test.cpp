@@ -52,7 +52,7 @@ MotionData RealInput() {
   retarget.model = testing::SourcePath(testing::kG1Urdf);
   retarget.robot_map = testing::SourcePath(testing::kG1Map);
   retarget.markerset = testing::SourcePath("manifests/markersets/humanml3d22.toml");
-  MotionData motion = Retarget(markers, retarget, nullptr);
+  MotionData motion = RetargetFile(markers, retarget, nullptr);
   fs::remove(markers);
   return motion;
 }

@@ -92,7 +92,7 @@ void SweepOnto(const Robot& robot) {
       options.robot_map = robot.map;
       options.markerset = testing::SourcePath("manifests/markersets/" + capture.markerset + ".toml");
       RetargetSummary summary;
-      const MotionData motion = Retarget(markers, options, &summary);
+      const MotionData motion = RetargetFile(markers, options, &summary);
       const Model model = Model::Load(robot.urdf);
       ++runs;
 
@@ -191,7 +191,7 @@ TEST(RetargetRealData, LegOnlyCaptureFailsWithTheLabelsItHas) {
   options.robot_map = testing::SourcePath(testing::kG1Map);
   options.markerset = testing::SourcePath("manifests/markersets/plugin-gait.toml");
   try {
-    (void)Retarget(markers, options, nullptr);
+    (void)RetargetFile(markers, options, nullptr);
     ADD_FAILURE() << "a leg-only capture was retargeted";
   } catch (const std::exception& error) {
     const std::string message = error.what();

@@ -13,7 +13,7 @@
 #include "common/markers_file.h"
 #include "common/model.h"
 #include "stages/retarget/retarget.h"
-#include "stages/retarget/robot_map.h"
+#include "common/robot_map.h"
 #include "tests/support/shared_data.h"
 
 namespace syn {
@@ -103,9 +103,9 @@ TEST_F(RetargetGroundTruth, SmoothG1TrajectoryIsRecovered) {
   options.model = urdf_;
   options.robot_map = map_path_;
   options.markerset = (dir_ / "truth.toml").string();
-  options.scale = "1";
+  options.scale = 1.0;
   RetargetSummary summary;
-  const MotionData motion = Retarget(markers, options, &summary);
+  const MotionData motion = RetargetFile(markers, options, &summary);
   ASSERT_EQ(motion.frames(), frames);
 
   // Compare every task link's pose.

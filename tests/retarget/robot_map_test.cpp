@@ -1,4 +1,4 @@
-#include "stages/retarget/robot_map.h"
+#include "common/robot_map.h"
 
 #include <gtest/gtest.h>
 #include <tinyxml2.h>

@@ -51,9 +51,9 @@ TEST(TrajectoryRefinement, SmoothsRealRetargetingAndKeepsTracking) {
   options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
   RetargetSummary raw_summary, refined_summary;
   options.smoothing = 0;
-  const MotionData raw = Retarget(markers, options, &raw_summary);
+  const MotionData raw = RetargetFile(markers, options, &raw_summary);
   options.smoothing = 1;
-  const MotionData refined = Retarget(markers, options, &refined_summary);
+  const MotionData refined = RetargetFile(markers, options, &refined_summary);
   std::filesystem::remove_all(dir);
 
   const double raw_rms = AccelerationRms(raw), refined_rms = AccelerationRms(refined);

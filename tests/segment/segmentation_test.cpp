@@ -37,7 +37,7 @@ TEST(Segmentation, SpikesAtKnownTimesGiveThoseBoundariesAndMinDurationSuppresses
   const Model model = Model::Load(testing::SourcePath("datasets/robots/unitree_g1/g1_29dof.urdf"));
   const MotionData motion = SteppedMotion(model, {{1.0, 0.5}, {2.0, -0.5}, {2.3, 0.5}});
   SegmentOptions options;
-  options.momentum = "centroidal";
+  options.momentum = MomentumKind::kCentroidal;
   const Segmentation segmentation = SegmentMotion(motion, model, options);
   EXPECT_EQ(segmentation.boundaries, (std::vector<int64_t>{0, 100, 200, 400}));  // 2.3 s is 0.3 s after 2.0 s
   // Independent: a pure base translation changes the linear momentum by (total mass) × Δv.
@@ -48,7 +48,7 @@ TEST(Segmentation, SpikesAtKnownTimesGiveThoseBoundariesAndMinDurationSuppresses
   options.min_duration = 0.2;
   EXPECT_EQ(SegmentMotion(motion, model, options).boundaries, (std::vector<int64_t>{0, 100, 200, 230, 400}));
   // Generalized momentum: same boundaries (A u of a base translation is large too).
-  options.momentum = "generalized";
+  options.momentum = MomentumKind::kGeneralized;
   EXPECT_EQ(SegmentMotion(motion, model, options).boundaries, (std::vector<int64_t>{0, 100, 200, 230, 400}));
   // A threshold above every jump gives one segment.
   options.threshold = model.totalMass() * 2;

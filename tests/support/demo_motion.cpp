@@ -32,7 +32,7 @@ const MotionData& DemoMotionOnG1(const std::string& trial) {
   retarget.model = SourcePath(kG1Urdf);
   retarget.robot_map = SourcePath(kG1Map);
   retarget.markerset = SourcePath("manifests/markersets/cmu-bvh.toml");
-  motion = std::make_unique<MotionData>(Retarget(markers, retarget, nullptr));
+  motion = std::make_unique<MotionData>(RetargetFile(markers, retarget, nullptr));
   std::filesystem::remove_all(dir);
   return *motion;
 }

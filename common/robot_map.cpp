@@ -1,38 +1,19 @@
-#include "stages/retarget/robot_map.h"
+#include "common/robot_map.h"
 
 #include <algorithm>
 #include <set>
 
-#include <toml++/toml.h>
-
 #include "common/error.h"
 #include "common/file_bytes.h"
-#include "stages/retarget/marker_set.h"
+#include "common/marker_set.h"
+#include "common/toml_fields.h"
 
 namespace syn {
 namespace {
 
-int LineOf(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
-
 class RobotMapParser {
  public:
-  explicit RobotMapParser(std::string file) : file_(std::move(file)) {}
-
-  [[noreturn]] void fail(int line, const std::string& message) const {
-    throw DataError(Location::AtLine(file_, line), message);
-  }
-
-  std::string text(const toml::node& node, const std::string& key) const {
-    const auto* value = node.as_string();
-    if (!value) fail(LineOf(node), "'" + key + "' must be a string");
-    return value->get();
-  }
-
-  double number(const toml::node& node, const std::string& key) const {
-    if (const auto* value = node.as_floating_point()) return value->get();
-    if (const auto* value = node.as_integer()) return static_cast<double>(value->get());
-    fail(LineOf(node), "'" + key + "' must be a number");
-  }
+  explicit RobotMapParser(std::string file) : fields_(std::move(file)) {}
 
   RobotTask task(const toml::table& table, int line) const {
     RobotTask task;
@@ -40,125 +21,120 @@ class RobotMapParser {
     for (const auto& [key, value] : table) {
       const std::string name(key.str());
       if (name == "landmark") {
-        task.landmark = text(value, name);
+        task.landmark = fields_.text(value, name);
         if (std::none_of(kLandmarkNames.begin(), kLandmarkNames.end(),
                          [&](const char* known) { return task.landmark == known; })) {
-          fail(LineOf(value), "unknown landmark '" + task.landmark + "'");
+          fields_.fail(value, "unknown landmark '" + task.landmark + "'");
         }
       } else if (name == "link") {
-        task.link = text(value, name);
+        task.link = fields_.text(value, name);
       } else if (name == "type") {
-        const std::string type = text(value, name);
+        const std::string type = fields_.text(value, name);
         if (type == "pose") task.type = TaskType::kPose;
         else if (type == "orientation") task.type = TaskType::kOrientation;
         else if (type == "position") task.type = TaskType::kPosition;
-        else fail(LineOf(value), "task type must be pose, orientation or position, not '" + type + "'");
+        else fields_.fail(value, "task type must be pose, orientation or position, not '" + type + "'");
       } else if (name == "priority") {
-        task.priority = static_cast<int>(number(value, name));
-        if (task.priority < 1 || task.priority > 3) fail(LineOf(value), "priority must be 1, 2 or 3");
+        task.priority = static_cast<int>(fields_.number(value, name));
+        if (task.priority < 1 || task.priority > 3) fields_.fail(value, "priority must be 1, 2 or 3");
       } else if (name == "weight") {
-        task.weight = number(value, name);
-        if (!(task.weight >= 0)) fail(LineOf(value), "weight must be >= 0");
+        task.weight = fields_.number(value, name);
+        if (!(task.weight >= 0)) fields_.fail(value, "weight must be >= 0");
       } else {
-        fail(LineOf(value), "unknown task key '" + name + "' (expected landmark, link, type, priority, weight)");
+        fields_.fail(value, "unknown task key '" + name + "' (expected landmark, link, type, priority, weight)");
       }
     }
-    if (task.landmark.empty() || task.link.empty()) fail(line, "a task needs a 'landmark' and a 'link'");
+    if (task.landmark.empty() || task.link.empty()) fields_.fail(line, "a task needs a 'landmark' and a 'link'");
     return task;
   }
 
   RobotFoot foot(const std::string& side, const toml::node& node) const {
     const auto* table = node.as_table();
-    if (!table) fail(LineOf(node), "feet." + side + " must be a table");
+    if (!table) fields_.fail(node, "feet." + side + " must be a table");
     RobotFoot foot;
     foot.side = side;
     foot.line = LineOf(node);
     for (const auto& [key, value] : *table) {
       const std::string name(key.str());
       if (name == "link") {
-        foot.link = text(value, name);
+        foot.link = fields_.text(value, name);
       } else if (name == "sole_points") {
         const auto* points = value.as_array();
-        if (!points || points->empty()) fail(LineOf(value), "sole_points must be a list of [x, y, z]");
+        if (!points || points->empty()) fields_.fail(value, "sole_points must be a list of [x, y, z]");
         for (const toml::node& point : *points) {
           const auto* xyz = point.as_array();
-          if (!xyz || xyz->size() != 3) fail(LineOf(point), "a sole point is [x, y, z] in the link frame (m)");
-          foot.sole_points.push_back({number((*xyz)[0], "x"), number((*xyz)[1], "y"), number((*xyz)[2], "z")});
+          if (!xyz || xyz->size() != 3) fields_.fail(point, "a sole point is [x, y, z] in the link frame (m)");
+          foot.sole_points.push_back({fields_.number((*xyz)[0], "x"), fields_.number((*xyz)[1], "y"), fields_.number((*xyz)[2], "z")});
         }
       } else {
-        fail(LineOf(value), "unknown foot key '" + name + "' (expected link, sole_points)");
+        fields_.fail(value, "unknown foot key '" + name + "' (expected link, sole_points)");
       }
     }
-    if (foot.link.empty() || foot.sole_points.empty()) fail(foot.line, "feet." + side + " needs link and sole_points");
+    if (foot.link.empty() || foot.sole_points.empty()) fields_.fail(foot.line, "feet." + side + " needs link and sole_points");
     return foot;
   }
 
   RobotMap parse(const std::string& toml_text) {
-    toml::table root;
-    try {
-      root = toml::parse(toml_text, file_);
-    } catch (const toml::parse_error& error) {
-      fail(static_cast<int>(error.source().begin.line), std::string(error.description()));
-    }
+    const toml::table root = fields_.parseText(toml_text);
     RobotMap map;
-    map.file = file_;
+    map.file = fields_.file();
     for (const auto& [key, value] : root) {
       const std::string name(key.str());
       if (name == "robot") {
-        map.robot = text(value, name);
+        map.robot = fields_.text(value, name);
       } else if (name == "floating_base") {
-        map.floating_base = text(value, name);
+        map.floating_base = fields_.text(value, name);
         if (map.floating_base != "auto" && map.floating_base != "free" && map.floating_base != "fixed") {
-          fail(LineOf(value), "floating_base must be auto, free or fixed");
+          fields_.fail(value, "floating_base must be auto, free or fixed");
         }
       } else if (name == "priority_weights") {
         const auto* list = value.as_array();
-        if (!list || list->size() != 3) fail(LineOf(value), "priority_weights must list 3 numbers (levels 1..3)");
-        for (size_t i = 0; i < 3; ++i) map.priority_weights[i] = number((*list)[i], "priority_weights");
+        if (!list || list->size() != 3) fields_.fail(value, "priority_weights must list 3 numbers (levels 1..3)");
+        for (size_t i = 0; i < 3; ++i) map.priority_weights[i] = fields_.number((*list)[i], "priority_weights");
       } else if (name == "task") {
         const auto* list = value.as_array();
-        if (!list) fail(LineOf(value), "tasks are written as [[task]] tables");
+        if (!list) fields_.fail(value, "tasks are written as [[task]] tables");
         std::set<std::string> landmarks;
         for (const toml::node& element : *list) {
           const auto* table = element.as_table();
-          if (!table) fail(LineOf(element), "expected a [[task]] table");
+          if (!table) fields_.fail(element, "expected a [[task]] table");
           RobotTask parsed = task(*table, LineOf(element));
           if (!landmarks.insert(parsed.landmark).second) {
-            fail(parsed.line, "landmark '" + parsed.landmark + "' has two tasks");
+            fields_.fail(parsed.line, "landmark '" + parsed.landmark + "' has two tasks");
           }
           map.tasks.push_back(std::move(parsed));
         }
       } else if (name == "posture") {
         const auto* table = value.as_table();
-        if (!table) fail(LineOf(value), "[posture] must be a table");
+        if (!table) fields_.fail(value, "[posture] must be a table");
         for (const auto& [posture_key, posture_value] : *table) {
-          if (posture_key == "weight") map.posture_weight = number(posture_value, "weight");
-          else if (posture_key == "priority") map.posture_priority = static_cast<int>(number(posture_value, "priority"));
-          else fail(LineOf(posture_value), "unknown posture key (expected weight, priority)");
+          if (posture_key == "weight") map.posture_weight = fields_.number(posture_value, "weight");
+          else if (posture_key == "priority") map.posture_priority = static_cast<int>(fields_.number(posture_value, "priority"));
+          else fields_.fail(posture_value, "unknown posture key (expected weight, priority)");
         }
       } else if (name == "reference_stance") {
         const auto* table = value.as_table();
-        if (!table) fail(LineOf(value), "[reference_stance] must map joint names to positions");
-        for (const auto& [joint, position] : *table) map.reference_stance[std::string(joint.str())] = number(position, "q");
+        if (!table) fields_.fail(value, "[reference_stance] must map joint names to positions");
+        for (const auto& [joint, position] : *table) map.reference_stance[std::string(joint.str())] = fields_.number(position, "q");
       } else if (name == "feet") {
         const auto* table = value.as_table();
-        if (!table) fail(LineOf(value), "[feet] must hold [feet.left] and [feet.right]");
+        if (!table) fields_.fail(value, "[feet] must hold [feet.left] and [feet.right]");
         for (const auto& [side, foot_node] : *table) {
-          if (side != "left" && side != "right") fail(LineOf(foot_node), "feet are 'left' and 'right'");
+          if (side != "left" && side != "right") fields_.fail(foot_node, "feet are 'left' and 'right'");
           map.feet.push_back(foot(std::string(side.str()), foot_node));
         }
       } else {
-        fail(LineOf(value), "unknown key '" + name +
+        fields_.fail(value, "unknown key '" + name +
                                 "' (expected robot, floating_base, priority_weights, [[task]], [posture], "
                                 "[reference_stance], [feet])");
       }
     }
-    if (map.tasks.empty()) fail(1, "the robot map has no [[task]]");
+    if (map.tasks.empty()) fields_.fail(1, "the robot map has no [[task]]");
     return map;
   }
 
  private:
-  std::string file_;
+  TomlFields fields_;
 };
 
 }  // namespace

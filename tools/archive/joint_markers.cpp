@@ -1,4 +1,4 @@
-#include "stages/archive/joint_markers.h"
+#include "tools/archive/joint_markers.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "stages/archive/archive_generator.h"
+#include "tools/archive/archive_generator.h"
 
 #include <cmath>
 #include <cstdio>
@@ -8,7 +8,7 @@
 #include "common/error.h"
 #include "common/file_bytes.h"
 #include "common/random.h"
-#include "stages/archive/joint_markers.h"
+#include "tools/archive/joint_markers.h"
 #include "stages/ingest/ingest.h"
 #include "stages/ingest/text_fields.h"
 

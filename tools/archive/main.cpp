@@ -4,7 +4,7 @@
 
 #include "common/cli.h"
 #include "common/file_bytes.h"
-#include "stages/archive/archive_generator.h"
+#include "tools/archive/archive_generator.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Build a large capture archive from CMU BVH trials for scale tests: each trial one source's joint "

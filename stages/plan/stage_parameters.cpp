@@ -1,0 +1,65 @@
+#include "stages/plan/stage_parameters.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+
+namespace syn {
+namespace {
+
+// Runs `command` and returns its standard output; throws DataError when it fails.
+std::string OutputOf(const std::string& command, const std::string& tool) {
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  if (!pipe) throw DataError(Location::InFile(tool), "could not run it");
+  std::string output;
+  std::array<char, 4096> buffer;
+  size_t read = 0;
+  while ((read = fread(buffer.data(), 1, buffer.size(), pipe.get())) > 0) output.append(buffer.data(), read);
+  const int status = pclose(pipe.release());
+  if (status != 0) throw DataError(Location::InFile(tool), "--print-parameters failed (exit status " + std::to_string(status) + ")");
+  return output;
+}
+
+StageParameterNames Query(const std::string& bin_dir, const std::string& stage, const std::vector<std::string>& excluded) {
+  const std::string tool = bin_dir + "/syn-" + stage;
+  if (!std::filesystem::exists(tool)) {
+    throw DataError(Location::InFile(tool), "stage tool not found: build it first (make build)");
+  }
+  nlohmann::json parameters;
+  try {
+    parameters = nlohmann::json::parse(OutputOf("'" + tool + "' --print-parameters 2>/dev/null", tool));
+  } catch (const nlohmann::json::parse_error& error) {
+    throw DataError(Location::InFile(tool), std::string("--print-parameters printed no JSON: ") + error.what());
+  }
+  if (!parameters.is_object()) throw DataError(Location::InFile(tool), "--print-parameters printed no JSON object");
+  StageParameterNames names{stage, {}};
+  for (const auto& item : parameters.items()) {
+    if (std::find(excluded.begin(), excluded.end(), item.key()) == excluded.end()) names.names.push_back(item.key());
+  }
+  return names;
+}
+
+}  // namespace
+
+std::vector<StageParameterNames> QueryStageParameters(const std::string& bin_dir) {
+  return {Query(bin_dir, "ingest", {}),
+          Query(bin_dir, "retarget", {}),
+          Query(bin_dir, "segment", {}),
+          Query(bin_dir, "synergies", {"subject", "trial", "style", "motion_class"}),
+          Query(bin_dir, "evaluate", {}),
+          Query(bin_dir, "library", {"style"})};
+}
+
+std::string OwnExecutableFolder() {
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  return error ? std::string(".") : self.parent_path().string();
+}
+
+}  // namespace syn
