@@ -1,0 +1,216 @@
+"""One trial's part of the report: Fig. 3 (momentum and segment boundaries), landmark errors over time,
+contact phases, the worst frames, and the compact motion the 3-D player plays (REPORT/trials/ID/)."""
+import base64
+import json
+import os
+import tomllib
+
+import h5py
+import numpy as np
+
+import plotting
+from urdf_fk import Robot
+
+PLAYER_RATE_HZ = 60.0   # playback samples: enough for smooth motion at a fraction of a 120 Hz capture's bytes
+WORST_FRAMES = 8        # rows in the worst-frames table
+
+
+def _text(value):
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
+def read_motion(path):
+    with h5py.File(path, "r") as file:
+        motion = {"time": file["time"][()], "q": file["q"][()],
+                  "coordinate_names": [_text(n) for n in file["coordinate_names"][()]]}
+        if "landmark_names" in file:
+            motion["landmark_names"] = [_text(n) for n in file["landmark_names"][()]]
+            motion["landmark_targets"] = file["landmark_targets"][()]
+            motion["landmark_error"] = file["landmark_error"][()]
+        if "contact" in file:  # issue 17: contact[T, feet], with the feet's names when given
+            motion["contact"] = np.asarray(file["contact"][()]).astype(bool)
+            names = file["contact"].attrs.get("feet", file.attrs.get("contact_feet"))
+            motion["contact_names"] = [_text(n) for n in names] if names is not None else None
+    return motion
+
+
+def read_feet(robot_map_path):
+    """The robot map's [feet.SIDE] link and sole points (what syn-evaluate's foot sliding uses)."""
+    with open(robot_map_path, "rb") as file:
+        feet = tomllib.load(file).get("feet", {})
+    return [(side, foot["link"], np.asarray(foot["sole_points"], dtype=float)) for side, foot in sorted(feet.items())]
+
+
+def sole_kinematics(robot, motion, feet, options):
+    """Per foot: lowest sole-point height [T] and sole-centroid horizontal speed [T] over a centred window,
+    as DESIGN.md's foot-sliding definition (evaluated at the motion's frames, not syn-evaluate's 1 kHz)."""
+    rotations, positions = robot.forward_kinematics(motion["q"], motion["coordinate_names"])
+    time = motion["time"]
+    result = []
+    for side, link, soles in feet:
+        i = robot.index[link]
+        points = positions[:, i, None, :] + np.einsum("tij,pj->tpi", rotations[:, i], soles)
+        lowest = points[:, :, 2].min(axis=1)
+        centroid = points[:, :, :2].mean(axis=1)
+        speed = np.zeros(len(time))
+        half = options["slide_window"] / 2
+        for k in range(len(time)):
+            a = np.searchsorted(time, time[k] - half)
+            b = min(np.searchsorted(time, time[k] + half, side="right") - 1, len(time) - 1)
+            if b > a:
+                speed[k] = np.linalg.norm(centroid[b] - centroid[a]) / (time[b] - time[a])
+        contact = lowest <= options["contact_height"]
+        sliding = (contact & (speed > options["slide_speed"])) | (lowest < -options["penetration"])
+        result.append({"side": side, "lowest": lowest, "speed": speed, "contact": contact, "sliding": sliding})
+    return result
+
+
+def _b64(array, dtype):
+    return base64.b64encode(np.ascontiguousarray(array, dtype=dtype).tobytes()).decode()
+
+
+def momentum_figure(segments_path, motion, trial_id, stem):
+    with h5py.File(segments_path, "r") as file:
+        t, delta_p = file["analysis_time"][()], file["delta_p"][()]
+        boundaries = file["boundaries"][()]
+        threshold = float(file.attrs["threshold_used"])
+    time = motion["time"]
+    figure, axes = plotting.new_figure(8.0, 2.6)
+    axes.plot(t, delta_p, color="#333", linewidth=0.8, label="ΔP(t)")
+    axes.axhline(threshold, color="#c03030", linestyle="--", linewidth=1, label=f"ΔP_th = {threshold:.3g}")
+    for b in boundaries[1:-1]:
+        axes.axvline(time[min(int(b), len(time) - 1)], color="#3b6fb6", linewidth=0.8, alpha=0.7)
+    axes.set_xlabel("time (s)")
+    axes.set_ylabel("ΔP (generalized momentum)")
+    axes.set_title(f"{trial_id}: momentum-based segmentation ({len(boundaries) - 1} segments, boundaries in blue)")
+    axes.legend(frameon=False, loc="upper right", fontsize=8)
+    plotting.save(figure, stem)
+    return {"segments": int(len(boundaries) - 1), "threshold": threshold,
+            "boundary_times": [round(float(time[min(int(b), len(time) - 1)]), 3) for b in boundaries]}
+
+
+def landmark_error_figure(motion, trial_id, stem):
+    figure, axes = plotting.new_figure(8.0, 2.8)
+    if "landmark_error" not in motion:
+        axes.text(0.5, 0.5, "not available: this motion was not retargeted from landmarks", ha="center",
+                  transform=axes.transAxes)
+    else:
+        error = motion["landmark_error"][:, :, 0] * 1000.0
+        for l, name in enumerate(motion["landmark_names"]):
+            if np.isfinite(error[:, l]).any():
+                axes.plot(motion["time"], error[:, l], linewidth=0.8, label=name)
+        axes.set_ylabel("position error (mm)")
+        axes.legend(frameon=False, fontsize=7, ncol=4, loc="upper right")
+    axes.set_xlabel("time (s)")
+    axes.set_title(f"{trial_id}: landmark position error (robot link vs human landmark)")
+    plotting.save(figure, stem)
+
+
+def contact_figure(motion, soles, trial_id, stem):
+    """The motion file's contact phases when it has them; the estimated ones are drawn in the player only."""
+    figure, axes = plotting.new_figure(8.0, 1.6)
+    if "contact" not in motion:
+        axes.text(0.5, 0.5, "not available: motion.h5 has no contact dataset", ha="center", va="center",
+                  transform=axes.transAxes)
+        axes.set_yticks([])
+    else:
+        contact = motion["contact"]
+        names = motion.get("contact_names") or [f"foot {f}" for f in range(contact.shape[1])]
+        time = motion["time"]
+        for f in range(contact.shape[1]):
+            starts = np.flatnonzero(np.diff(np.concatenate([[0], contact[:, f].astype(int)])) == 1)
+            ends = np.flatnonzero(np.diff(np.concatenate([contact[:, f].astype(int), [0]])) == -1)
+            axes.broken_barh([(time[s], time[e] - time[s] + (time[1] - time[0] if len(time) > 1 else 0))
+                              for s, e in zip(starts, ends)], (f - 0.4, 0.8), color="#2a9d8f")
+        axes.set_yticks(range(contact.shape[1]))
+        axes.set_yticklabels(names)
+    axes.set_xlabel("time (s)")
+    axes.set_title(f"{trial_id}: contact phases")
+    plotting.save(figure, stem)
+    return "contact" in motion
+
+
+def worst_frames(motion):
+    if "landmark_error" not in motion:
+        return []
+    error = np.nan_to_num(motion["landmark_error"][:, :, 0], nan=-1.0)
+    worst_landmark = error.argmax(axis=1)
+    worst = error.max(axis=1)
+    order = np.argsort(-worst, kind="stable")
+    rows, used = [], []
+    for k in order:  # distinct moments: skip frames within 0.25 s of one already listed
+        if worst[k] < 0 or any(abs(motion["time"][k] - motion["time"][u]) < 0.25 for u in used):
+            continue
+        used.append(k)
+        angle = motion["landmark_error"][k, worst_landmark[k], 1]
+        rows.append({"frame": int(k), "time": round(float(motion["time"][k]), 3),
+                     "landmark": motion["landmark_names"][worst_landmark[k]],
+                     "error_mm": round(float(worst[k]) * 1000, 1),
+                     "angle_deg": round(float(np.degrees(angle)), 1) if np.isfinite(angle) else None})
+        if len(rows) == WORST_FRAMES:
+            break
+    return rows
+
+
+def write_trial(trial, motion_path, segments_path, urdf_path, robot_map_path, metrics_path, out_dir):
+    """Writes every per-trial file into out_dir; trial.json (the page's summary of the trial) last."""
+    os.makedirs(out_dir, exist_ok=True)
+    motion = read_motion(motion_path)
+    robot = Robot(urdf_path)
+    with open(metrics_path) as file:
+        metrics = json.load(file)
+    sliding_options = metrics["parameters"] if "contact_height" in metrics.get("parameters", {}) else \
+        {"contact_height": 0.05, "slide_speed": 0.5, "slide_window": 0.05, "penetration": 0.01}
+    trial_id = trial["id"]
+    fig3 = momentum_figure(segments_path, motion, trial_id, os.path.join(out_dir, "fig3"))
+    landmark_error_figure(motion, trial_id, os.path.join(out_dir, "landmark_error"))
+    has_contact = contact_figure(motion, None, trial_id, os.path.join(out_dir, "contact"))
+    soles = sole_kinematics(robot, motion, read_feet(robot_map_path), sliding_options)
+
+    # Player samples: every stride-th frame.
+    time = motion["time"]
+    rate = (len(time) - 1) / (time[-1] - time[0]) if len(time) > 1 else PLAYER_RATE_HZ
+    stride = max(1, int(round(rate / PLAYER_RATE_HZ)))
+    picked = np.arange(0, len(time), stride)
+    feet_contact = np.stack([s["contact"] for s in soles], axis=1) if soles else np.zeros((len(time), 0), bool)
+    contact_source = "estimated"
+    if has_contact and motion["contact"].shape[1] == feet_contact.shape[1]:
+        feet_contact, contact_source = motion["contact"], "motion.h5"
+    sliding = np.stack([s["sliding"] for s in soles], axis=1) if soles else np.zeros((len(time), 0), bool)
+    # A frame the player skips still shows: a sample is flagged when any frame it stands for is.
+    def spread(flags):
+        out = np.zeros((len(picked), flags.shape[1]), dtype=np.uint8)
+        for i, k in enumerate(picked):
+            out[i] = flags[k:k + stride].any(axis=0)
+        return out
+    landmarks = None
+    if "landmark_targets" in motion:
+        targets = motion["landmark_targets"][picked, :, :3]
+        landmarks = {"names": motion["landmark_names"], "positions": _b64(targets, "<f4")}
+    player = {
+        "id": trial_id, "motion_class": trial.get("motion_class", ""), "style": trial.get("style", ""),
+        "frames": int(len(picked)), "nq": int(motion["q"].shape[1]),
+        "time": _b64(time[picked] - time[0], "<f4"), "q": _b64(motion["q"][picked], "<f4"),
+        "landmarks": landmarks, "feet": [s["side"] for s in soles], "contact_source": contact_source,
+        "contact": _b64(spread(feet_contact), "u1"), "sliding": _b64(spread(sliding), "u1"),
+        "source_frames": picked.tolist()[:1] + [int(stride)]}
+    with open(os.path.join(out_dir, "motion.js.tmp"), "w") as file:
+        file.write("SynReport.addTrial(" + json.dumps(player, separators=(",", ":")) + ");\n")
+    os.replace(os.path.join(out_dir, "motion.js.tmp"), os.path.join(out_dir, "motion.js"))
+
+    error = motion.get("landmark_error")
+    summary = {
+        "id": trial_id, "motion_class": trial.get("motion_class", ""), "style": trial.get("style", ""),
+        "frames": int(len(time)), "duration_s": round(float(time[-1] - time[0]), 3), "rate_hz": round(float(rate), 2),
+        "player_stride": int(stride), "fig3": fig3, "contact_dataset": has_contact,
+        "contact_source": contact_source,
+        "sliding_frames_estimated": int(sliding.any(axis=1).sum()),
+        "foot_sliding_ratio": metrics.get("trial", {}).get("foot_sliding_ratio"),
+        "mean_power_w_per_kg": metrics.get("trial", {}).get("mean_power_w_per_kg"),
+        "median_landmark_error_mm": {name: round(float(np.nanmedian(error[:, l, 0])) * 1000, 1)
+                                     for l, name in enumerate(motion["landmark_names"])
+                                     if np.isfinite(error[:, l, 0]).any()} if error is not None else {},
+        "worst_frames": worst_frames(motion)}
+    with open(os.path.join(out_dir, "trial.json.tmp"), "w") as file:
+        json.dump(summary, file, indent=1, sort_keys=True)
+    os.replace(os.path.join(out_dir, "trial.json.tmp"), os.path.join(out_dir, "trial.json"))
