@@ -169,8 +169,10 @@ $(REPORT_NPM): tools/report/package.json tools/report/package-lock.json
 	cd tools/report && npm ci --no-audit --no-fund --loglevel=error
 	@touch $@
 
+# Debian's python3 (python3-matplotlib, python3-h5py), whatever else is first on PATH.
+REPORT_PYTHON ?= /usr/bin/python3
 report: run $(REPORT_NPM)
-	@python3 tools/report/report.py plan --manifest $(MANIFEST) --outputs $(OUTPUTS) --bin $(BIN)
+	@$(REPORT_PYTHON) tools/report/report.py plan --manifest $(MANIFEST) --outputs $(OUTPUTS) --bin $(BIN)
 	@$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/$(MANIFEST_NAME)/report/rules.mk SYN_BIN=$(BIN) all
 	@echo "make: $(MANIFEST_NAME): report in $(OUTPUTS)/$(MANIFEST_NAME)/report/index.html"
 

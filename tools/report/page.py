@@ -34,7 +34,7 @@ CAPTIONS = {
 
 def _figure(src, caption, command, alt):
     svg = src[:-4] + ".svg"
-    return (f'<figure><img src="{src}" alt="{html.escape(alt)}" loading="lazy">'
+    return (f'<figure><img src="{src}" alt="{html.escape(alt)}">'
             f'<figcaption>{caption} <a href="{svg}">SVG</a><br><span class="cmd">redraw: '
             f'<code>{html.escape(command)}</code></span></figcaption></figure>')
 
@@ -232,7 +232,8 @@ var SynReport = (function () {
       trials[data.id] = data;
       if (data.id in pending) { var time = pending[data.id]; delete pending[data.id]; show(data.id, time); }
     },
-    ready: function () { return state.trial !== null && player !== null; }
+    ready: function () { return state.trial !== null && player !== null; },
+    current: function () { return state.trial; }
   };
 })();
 """

@@ -59,6 +59,20 @@ var SynPlayer = (function () {
         bones.push({mesh: bone, link: i});
       }
     }
+    // A leaf link whose centre of mass lies away from its joint (the G1's head sits on the torso's frame):
+    // a bone to the centre of mass and a ball there, sized by that distance.
+    var hasChild = links.map(function () { return false; });
+    links.forEach(function (link) { if (link.parent >= 0) hasChild[link.parent] = true; });
+    var tips = [];
+    links.forEach(function (link, i) {
+      var com = new THREE.Vector3(link.com[0], link.com[1], link.com[2]);
+      if (hasChild[i] || com.length() < 0.04) return;
+      var radius = Math.max(0.03, Math.min(0.09, 0.2 * com.length()));
+      var ball = new THREE.Mesh(new THREE.SphereGeometry(radius, 16, 12), boneMaterial);
+      var bone = new THREE.Mesh(cylinder, boneMaterial);
+      scene.add(ball); scene.add(bone);
+      tips.push({link: i, com: com, ball: ball, bone: bone});
+    });
     // Feet: a box through the sole points, coloured by contact state.
     var feet = (robot.feet || []).map(function (foot) {
       var box = new THREE.Box3();
@@ -85,7 +99,7 @@ var SynPlayer = (function () {
               axis: new THREE.Vector3(link.axis[0], link.axis[1], link.axis[2]).normalize()};
     });
     var motion = null, frame = 0, speed = 1, playing = false, playStart = 0, playFrom = 0;
-    var target = new THREE.Vector3(0, 0, 0.8), azimuth = -0.9, elevation = 0.25, distance = 4.0;
+    var target = new THREE.Vector3(0, 0, 0.8), azimuth = -0.9, elevation = 0.22, distance = 3.2;
     var scratch = new THREE.Quaternion(), up = new THREE.Vector3(0, 1, 0), delta = new THREE.Vector3();
 
     function forwardKinematics(k) {
@@ -126,6 +140,15 @@ var SynPlayer = (function () {
         bone.mesh.position.copy(from).addScaledVector(delta, 0.5);
         bone.mesh.quaternion.setFromUnitVectors(up, delta.divideScalar(length));
         bone.mesh.scale.set(1, length, 1);
+      });
+      tips.forEach(function (tip) {
+        var from = positions[tip.link];
+        tip.ball.position.copy(tip.com).applyQuaternion(rotations[tip.link]).add(from);
+        delta.subVectors(tip.ball.position, from);
+        var length = delta.length();
+        tip.bone.position.copy(from).addScaledVector(delta, 0.5);
+        tip.bone.quaternion.setFromUnitVectors(up, delta.divideScalar(length));
+        tip.bone.scale.set(1, length, 1);
       });
       var nf = feet.length;
       feet.forEach(function (foot, f) {

@@ -23,6 +23,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
 TOOL = os.path.relpath(os.path.join(HERE, "report.py"))
+# The interpreter that runs the plan runs the rules (make report uses Debian's, which has numpy, h5py, matplotlib).
+PYTHON = sys.executable or "python3"
 COMMON_SOURCES = ["plotting.py"]
 TRIAL_SOURCES = COMMON_SOURCES + ["trial_report.py", "urdf_fk.py"]
 FIGURE_SOURCES = COMMON_SOURCES + ["figures.py"]
@@ -76,7 +78,7 @@ class Archive:
 
 
 def command_line(archive, *words):
-    return " ".join(["python3", TOOL] + list(words) + ["--manifest", archive.manifest_path, "--outputs",
+    return " ".join([PYTHON, TOOL] + list(words) + ["--manifest", archive.manifest_path, "--outputs",
                                                         archive.outputs])
 
 
