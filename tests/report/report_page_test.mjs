@@ -17,19 +17,24 @@ const [page_path, expected_path, shots] = process.argv.slice(2);
 const expected = JSON.parse(fs.readFileSync(expected_path, 'utf8'));
 fs.mkdirSync(shots, { recursive: true });
 const failures = [];
-const check = (ok, what) => { console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`); if (!ok) failures.push(what); };
+const started = Date.now();
+const check = (ok, what) => {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what} [${((Date.now() - started) / 1000).toFixed(1)} s]`);
+  if (!ok) failures.push(what);
+};
 
 const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'synsculpt-chromium-'));
-const browser = await chromium.launch({
+// A fresh profile (playwright passes it as --user-data-dir).
+const browser = await chromium.launchPersistentContext(profile, {
   executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  viewport: { width: 1280, height: 900 },
   args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
          '--disable-background-networking', '--disable-component-update', '--disable-sync',
-         `--user-data-dir=${profile}`,
          // No GPU here: WebGL through SwiftShader, Chromium's CPU renderer.
          '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
 });
 try {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+  const page = await browser.newPage();
   const errors = [];
   page.on('console', (message) => { if (message.type() === 'error') errors.push(message.text()); });
   page.on('pageerror', (error) => errors.push(String(error)));
@@ -47,22 +52,27 @@ try {
   const broken = images.filter((image) => image.width === 0).map((image) => image.src);
   check(images.length > 0 && broken.length === 0, `${images.length} figure images load${broken.length ? ': broken ' + broken.join(', ') : ''}`);
 
-  // Pixels that differ from the background, and the pixel difference between two renders.
-  const pixels = () => page.evaluate(() => {
+  // The canvas's pixels, compared in the page (moving megabytes through the DevTools protocol takes a minute):
+  // how many differ from the background, and from the previous snapshot.
+  const snapshot = () => page.evaluate(() => {
     const source = synPlayer.canvas, canvas = document.createElement('canvas');
     canvas.width = source.width; canvas.height = source.height;
     const context = canvas.getContext('2d');
     context.drawImage(source, 0, 0);
-    return Array.from(context.getImageData(0, 0, canvas.width, canvas.height).data);
+    const data = context.getImageData(0, 0, canvas.width, canvas.height).data, previous = window.previousPixels;
+    let drawn = 0, changed = 0;
+    for (let i = 0; i < data.length; i += 4) {
+      if (Math.abs(data[i] - 0xf4) + Math.abs(data[i + 1] - 0xf5) + Math.abs(data[i + 2] - 0xf7) > 30) drawn++;
+      if (previous && Math.abs(data[i] - previous[i]) + Math.abs(data[i + 1] - previous[i + 1]) +
+          Math.abs(data[i + 2] - previous[i + 2]) > 30) changed++;
+    }
+    window.previousPixels = data;
+    return { pixels: data.length / 4, drawn, changed };
   });
   const webgl = await page.evaluate(() => !!synPlayer.canvas.getContext('webgl2') || !!synPlayer.canvas.getContext('webgl'));
   check(webgl, 'the player has a WebGL context');
-  const first = await pixels();
-  let drawn = 0;
-  for (let i = 0; i < first.length; i += 4) {
-    if (Math.abs(first[i] - 0xf4) + Math.abs(first[i + 1] - 0xf5) + Math.abs(first[i + 2] - 0xf7) > 30) drawn++;
-  }
-  const share = drawn / (first.length / 4);
+  const first = await snapshot();
+  const share = first.drawn / first.pixels;
   check(share > 0.01, `the WebGL canvas is not blank (${(100 * share).toFixed(1)} % of its pixels drawn)`);
 
   await page.locator('#player').screenshot({ path: path.join(shots, 'player_frame_a.png') });
@@ -76,11 +86,7 @@ try {
     return Number(slider.value);
   });
   check(middle > 0 && (await page.evaluate(() => synPlayer.frame())) === middle, `the slider moves the player to frame ${middle}`);
-  const second = await pixels();
-  let changed = 0;
-  for (let i = 0; i < first.length; i += 4) {
-    if (Math.abs(first[i] - second[i]) + Math.abs(first[i + 1] - second[i + 1]) + Math.abs(first[i + 2] - second[i + 2]) > 30) changed++;
-  }
+  const { changed } = await snapshot();
   check(changed > 200, `moving the slider changes the drawn pose (${changed} pixels differ)`);
   await page.locator('#player').screenshot({ path: path.join(shots, 'player_frame_b.png') });
   const shotA = fs.readFileSync(path.join(shots, 'player_frame_a.png'));

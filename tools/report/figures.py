@@ -26,8 +26,9 @@ def read_trial_pcs(synergies_path):
     with h5py.File(synergies_path, "r") as file:
         labels = {key: _text(file.attrs.get(key, "")) for key in ("trial", "style", "motion_class", "subject")}
         rows = []
-        for name in sorted(key for key in file.keys() if key.startswith("segment")):
-            ratios = np.asarray(file[name]["explained_variance_ratio"][()], dtype=float)
+        segments = file["segments"] if "segments" in file else {}
+        for name in sorted(segments.keys()):  # segments/000, 001, ...
+            ratios = np.asarray(segments[name]["explained_variance_ratio"][()], dtype=float)
             padded = np.full(3, np.nan)
             padded[:min(3, ratios.size)] = ratios[:3]
             rows.append(padded)

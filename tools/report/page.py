@@ -158,14 +158,17 @@ PLAYER_SECTION = """<section id="player"><h2>3-D playback</h2>
  <label>speed <select id="speed"><option>0.25</option><option>0.5</option><option selected>1</option><option>2</option></select></label>
  <input id="slider" type="range" min="0" max="0" value="0" step="1">
  <span id="clock">0.00 s</span>
- <label><input id="beside" type="checkbox" checked> landmarks beside the robot</label>
+ <label><input id="beside" type="checkbox" checked> human beside the robot</label>
 </div>
 <div id="viewport"></div>
 <p class="legend">Robot: a capsule from each link's joint to its children's (the G1 URDF has no meshes);
 feet: boxes through the robot map's sole points, <span style="color:#2a9d8f">green in contact</span>,
 <span style="color:#d62828">red while sliding</span> (sole within the contact height and moving faster
-than the sliding speed, as syn-evaluate defines it, or penetrating). Human landmarks (the retargeter's
-targets): <span style="color:#e07a1f">orange points</span>. Drag to orbit, wheel to zoom.
+than the sliding speed, as syn-evaluate defines it, or penetrating). <span style="color:#e07a1f">Orange</span>:
+the captured human (markers.h5: its skeleton's joints, or its markers) turned, scaled and moved as the retargeter did, feet on the ground, 1 m
+beside the robot or overlaid;
+<span style="color:#c2185b">magenta points</span>: the retargeter's landmark targets for the tracked links
+(motion.h5 landmark_targets). Drag to orbit, wheel to zoom.
 <span id="contact-source"></span></p>
 </section>"""
 
@@ -214,7 +217,7 @@ var SynReport = (function () {
         this.textContent = player.playing() ? 'pause' : 'play';
       };
       document.getElementById('speed').onchange = function () { player.setSpeed(Number(this.value)); };
-      document.getElementById('beside').onchange = function () { player.setLandmarkOffset(this.checked ? 1.0 : 0.0); };
+      document.getElementById('beside').onchange = function () { player.setHumanOffset(this.checked ? 1.0 : 0.0); };
       Array.prototype.forEach.call(document.querySelectorAll('button.play'), function (button) {
         button.onclick = function () {
           show(button.dataset.trial, Number(button.dataset.time));
@@ -227,6 +230,7 @@ var SynReport = (function () {
       data.time = decode(data.time, Float32Array);
       data.q = decode(data.q, Float32Array);
       if (data.landmarks) data.landmarks.positions = decode(data.landmarks.positions, Float32Array);
+      if (data.human) data.human.positions = decode(data.human.positions, Float32Array);
       data.contact = decode(data.contact, Uint8Array);
       data.sliding = decode(data.sliding, Uint8Array);
       trials[data.id] = data;

@@ -3,25 +3,24 @@
  *   var player = SynPlayer.create(container, robot, {onFrame: function (frame, time) {}});
  *   player.setMotion(motion);  player.setTime(seconds);  player.setFrame(k);
  *   player.play();  player.pause();  player.setSpeed(x);  player.playing();
- *   player.linkPositions();    // world positions of every link frame at the current frame (tests)
+ *   player.setHumanOffset(metres);  player.linkPositions();  // link-frame world positions (tests)
  *
  * robot: what tools/report/urdf_fk.py Robot.description() writes: links in tree order, each with its parent
  *   index, joint origin (xyz, quaternion w,x,y,z), axis, type and q index (-1 for fixed); base_q (q indexes of
  *   a free base's quaternion w,x,y,z and translation) or null; feet (link index, sole points in the link frame).
- * motion: frames, nq, time (Float32Array [T], s), q (Float32Array [T*nq]), optional landmarks {names,
- *   positions (Float32Array [T*L*3], NaN = no target)}, feet flags contact and sliding (Uint8Array [T*F]).
+ * motion: frames, nq, time (Float32Array [T], s), q (Float32Array [T*nq]); optional landmarks {names,
+ *   positions (Float32Array [T*L*3], NaN = no target)}: the IK targets, drawn where they are; optional human
+ *   {names, parents (index or -1), positions (Float32Array [T*N*3])}: the capture, drawn beside the robot;
+ *   feet flags contact and sliding (Uint8Array [T*F]).
  *
  * The forward kinematics is the URDF's: parent pose * joint origin * rotation about the axis by q (revolute)
  * or a translation along it (prismatic). Z is up, as in every synsculpt file.
  */
 var SynPlayer = (function () {
   'use strict';
-  var ROBOT_COLOR = 0x8a9bb0, JOINT_COLOR = 0x4a5668, LANDMARK_COLOR = 0xe07a1f;
+  var ROBOT_COLOR = 0x8a9bb0, JOINT_COLOR = 0x4a5668, HUMAN_COLOR = 0xe07a1f, TARGET_COLOR = 0xc2185b;
   var FOOT_COLORS = {free: 0x9aa5b1, contact: 0x2a9d8f, sliding: 0xd62828};
   var BONE_RADIUS = 0.025;
-  var LANDMARK_LINKS = [['pelvis', 'upper_torso'], ['upper_torso', 'head'], ['upper_torso', 'left_elbow'],
-    ['left_elbow', 'left_hand'], ['upper_torso', 'right_elbow'], ['right_elbow', 'right_hand'],
-    ['pelvis', 'left_foot'], ['pelvis', 'right_foot']];
 
   function create(container, robot, options) {
     options = options || {};
@@ -84,10 +83,18 @@ var SynPlayer = (function () {
       scene.add(mesh);
       return {mesh: mesh, link: foot.link, centre: centre.add(new THREE.Vector3(0, 0, thickness / 2))};
     });
-    var landmarkMaterial = new THREE.MeshStandardMaterial({color: LANDMARK_COLOR});
-    var landmarkSphere = new THREE.SphereGeometry(0.03, 12, 8);
-    var landmarkLine = new THREE.LineBasicMaterial({color: LANDMARK_COLOR});
-    var landmarks = [], landmarkSegments = null, landmarkOffset = 1.0;
+    var targetMaterial = new THREE.MeshStandardMaterial({color: TARGET_COLOR});
+    var targetSphere = new THREE.SphereGeometry(0.022, 10, 8);
+    var humanMaterial = new THREE.MeshStandardMaterial({color: HUMAN_COLOR});
+    var humanSphere = new THREE.SphereGeometry(0.02, 10, 8);
+    var humanLine = new THREE.LineBasicMaterial({color: HUMAN_COLOR});
+    var targets = [], humanPoints = [], humanLines = null, humanOffset = 1.0;
+    // Places mesh m at point i of frame k of a [T*N*3] array (plus dy); hides it where the point is NaN.
+    function placePoint(mesh, array, count, k, i, dy) {
+      var o = (k * count + i) * 3, x = array[o], y = array[o + 1], z = array[o + 2];
+      mesh.visible = isFinite(x) && isFinite(y) && isFinite(z);
+      if (mesh.visible) mesh.position.set(x, y + dy, z);
+    }
 
     var positions = [], rotations = [];
     for (i = 0; i < n; i++) { positions.push(new THREE.Vector3()); rotations.push(new THREE.Quaternion()); }
@@ -159,22 +166,21 @@ var SynPlayer = (function () {
         foot.mesh.material.color.setHex(sliding ? FOOT_COLORS.sliding : contact ? FOOT_COLORS.contact : FOOT_COLORS.free);
       });
       if (motion.landmarks) {
-        var L = motion.landmarks.names.length, p = motion.landmarks.positions, lines = [];
-        for (var l = 0; l < L; l++) {
-          var x = p[(frame * L + l) * 3], y = p[(frame * L + l) * 3 + 1], z = p[(frame * L + l) * 3 + 2];
-          landmarks[l].visible = isFinite(x) && isFinite(y) && isFinite(z);
-          if (landmarks[l].visible) landmarks[l].position.set(x, y + landmarkOffset, z);
-        }
-        var index = {};
-        motion.landmarks.names.forEach(function (name, l) { index[name] = l; });
-        LANDMARK_LINKS.forEach(function (pair) {
-          var a = landmarks[index[pair[0]]], b = landmarks[index[pair[1]]];
-          if (a && b && a.visible && b.visible) lines.push(a.position.clone(), b.position.clone());
+        var L = motion.landmarks.names.length;
+        for (var l = 0; l < L; l++) placePoint(targets[l], motion.landmarks.positions, L, frame, l, 0);
+      }
+      if (motion.human) {
+        var H = motion.human.names.length, ends = [];
+        for (var h = 0; h < H; h++) placePoint(humanPoints[h], motion.human.positions, H, frame, h, humanOffset);
+        motion.human.parents.forEach(function (parent, h) {
+          if (parent >= 0 && humanPoints[h].visible && humanPoints[parent].visible) {
+            ends.push(humanPoints[parent].position.clone(), humanPoints[h].position.clone());
+          }
         });
-        landmarkSegments.geometry.setFromPoints(lines);
+        humanLines.geometry.setFromPoints(ends);
       }
       // The camera follows the pelvis horizontally.
-      target.set(positions[0].x, positions[0].y + landmarkOffset / 2, 0.8);
+      target.set(positions[0].x, positions[0].y + (motion.human ? humanOffset / 2 : 0), 0.8);
       camera.position.set(target.x + distance * Math.cos(elevation) * Math.cos(azimuth),
                           target.y + distance * Math.cos(elevation) * Math.sin(azimuth),
                           target.z + distance * Math.sin(elevation));
@@ -221,17 +227,19 @@ var SynPlayer = (function () {
     return {
       setMotion: function (m) {
         motion = m;
-        landmarks.forEach(function (mesh) { scene.remove(mesh); });
-        if (landmarkSegments) scene.remove(landmarkSegments);
-        landmarks = [];
-        if (m.landmarks) {
-          m.landmarks.names.forEach(function () {
-            var mesh = new THREE.Mesh(landmarkSphere, landmarkMaterial);
-            scene.add(mesh);
-            landmarks.push(mesh);
-          });
-          landmarkSegments = new THREE.LineSegments(new THREE.BufferGeometry(), landmarkLine);
-          scene.add(landmarkSegments);
+        targets.concat(humanPoints).forEach(function (mesh) { scene.remove(mesh); });
+        if (humanLines) scene.remove(humanLines);
+        targets = []; humanPoints = []; humanLines = null;
+        function points(count, geometry, material) {
+          var meshes = [];
+          for (var i = 0; i < count; i++) { var mesh = new THREE.Mesh(geometry, material); scene.add(mesh); meshes.push(mesh); }
+          return meshes;
+        }
+        if (m.landmarks) targets = points(m.landmarks.names.length, targetSphere, targetMaterial);
+        if (m.human) {
+          humanPoints = points(m.human.names.length, humanSphere, humanMaterial);
+          humanLines = new THREE.LineSegments(new THREE.BufferGeometry(), humanLine);
+          scene.add(humanLines);
         }
         playFrom = 0;
         setFrame(0);
@@ -248,7 +256,7 @@ var SynPlayer = (function () {
       pause: function () { playing = false; },
       playing: function () { return playing; },
       setSpeed: function (x) { playFrom = motion ? motion.time[frame] : 0; playStart = performance.now(); speed = x; },
-      setLandmarkOffset: function (metres) { landmarkOffset = metres; if (motion) place(); },
+      setHumanOffset: function (metres) { humanOffset = metres; if (motion) place(); },
       frame: function () { return frame; },
       frameCount: function () { return motion ? motion.frames : 0; },
       linkPositions: function () { return positions.map(function (p) { return [p.x, p.y, p.z]; }); },

@@ -43,6 +43,7 @@ class Archive:
         self.description = manifest.get("description", "")
         self.model = manifest.get("model", "")
         self.robot_map = manifest.get("robot_map", "")
+        self.markerset = manifest.get("markerset", "")
         self.trials = [{key: trial.get(key, "") for key in ("id", "subject", "motion_class", "style", "genre")}
                        for trial in manifest.get("trial", [])]
         self.outputs = outputs
@@ -97,8 +98,8 @@ def plan(archive, bin_dir):
     for trial in archive.trials:
         tid = trial["id"]
         target = f"{r}/trials/{tid}/trial.json"
-        inputs = [archive.trial_file(tid, n) for n in ("motion.h5", "segments.h5", "metrics.json")]
-        inputs += [archive.model, archive.robot_map, archive.manifest_path]
+        inputs = [archive.trial_file(tid, n) for n in ("markers.h5", "motion.h5", "segments.h5", "metrics.json")]
+        inputs += [archive.model, archive.robot_map, archive.markerset, archive.manifest_path]
         lines += [f"{target}: {' '.join(inputs)} {sources(TRIAL_SOURCES)} {TOOL}",
                   f"\t@start=$$EPOCHREALTIME; {command_line(archive, 'trial', tid)} && $(call report_done,{tid})", ""]
         targets.append(target)
@@ -198,7 +199,8 @@ def main():
             print(f"report.py: {args.manifest} has no trial '{args.name}'", file=sys.stderr)
             return 2
         t = args.name
-        trial_report.write_trial(trial, archive.trial_file(t, "motion.h5"), archive.trial_file(t, "segments.h5"),
+        trial_report.write_trial(trial, archive.trial_file(t, "markers.h5"), archive.markerset,
+                                 archive.trial_file(t, "motion.h5"), archive.trial_file(t, "segments.h5"),
                                  archive.model, archive.robot_map, archive.trial_file(t, "metrics.json"),
                                  os.path.join(archive.report, "trials", t))
     elif args.action == "figure":

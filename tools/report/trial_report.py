@@ -34,6 +34,20 @@ def read_motion(path):
     return motion
 
 
+def read_human(markers_path):
+    """The captured human as a point tree: bodies (BVH joints, rigid bodies) with their parents when the
+    file has them, else its labelled markers with no lines. Positions [T, N, 3] in the capture's frame."""
+    with h5py.File(markers_path, "r") as file:
+        if "body_pose" in file and file["body_pose"].shape[1] > 0:
+            names = [_text(n) for n in file["bodies"][()]]
+            parents = [_text(n) for n in file["body_parents"][()]] if "body_parents" in file else [""] * len(names)
+            index = {name: i for i, name in enumerate(names)}
+            return {"names": names, "parents": [index.get(p, -1) for p in parents],
+                    "positions": file["body_pose"][:, :, :3]}
+        names = [_text(n) for n in file["labels"][()]]
+        return {"names": names, "parents": [-1] * len(names), "positions": file["points"][()]}
+
+
 def read_feet(robot_map_path):
     """The robot map's [feet.SIDE] link and sole points (what syn-evaluate's foot sliding uses)."""
     with open(robot_map_path, "rb") as file:
@@ -152,7 +166,48 @@ def worst_frames(motion):
     return rows
 
 
-def write_trial(trial, motion_path, segments_path, urdf_path, robot_map_path, metrics_path, out_dir):
+def fit_human_alignment(human, motion, markerset_path):
+    """Rotation about z, scale and offset taking the capture to the robot frame. syn-retarget's targets are
+    link_reference + scale * heading * (sample - reference sample) per landmark, so the displacements of each
+    landmark's body about its mean, pooled over landmarks and frames, give heading and scale by a 2-D
+    Procrustes fit (yaw) and the ratio of spreads (scale); the offset puts the first landmark (the pelvis) on
+    its targets' mean. Without correspondences (marker-defined landmarks) only the offset is fitted."""
+    with open(markerset_path, "rb") as file:
+        entries = tomllib.load(file).get("landmark", [])
+    names = {name: i for i, name in enumerate(human["names"])}
+    pairs = []
+    for entry in entries:
+        if "body" not in entry or entry["name"] not in motion.get("landmark_names", []):
+            continue
+        body = next((names[b] for b in entry["body"].split("|") if b in names), None)
+        if body is not None:
+            pairs.append((motion["landmark_names"].index(entry["name"]), body))
+    rotation, scale, heading = np.eye(3), 1.0, 0.0
+    p_all, q_all = [], []
+    for landmark, body in pairs:
+        p, q = human["positions"][:, body], motion["landmark_targets"][:, landmark, :3]
+        valid = np.isfinite(p).all(axis=1) & np.isfinite(q).all(axis=1)
+        if valid.sum() > 1:
+            p_all.append(p[valid] - p[valid].mean(axis=0))
+            q_all.append(q[valid] - q[valid].mean(axis=0))
+    if p_all:
+        dp, dq = np.vstack(p_all), np.vstack(q_all)
+        heading = np.arctan2((dp[:, 0] * dq[:, 1] - dp[:, 1] * dq[:, 0]).sum(), (dp[:, :2] * dq[:, :2]).sum())
+        c, s = np.cos(heading), np.sin(heading)
+        rotation = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+        spread = np.sqrt((dp ** 2).sum())
+        scale = float(np.sqrt((dq ** 2).sum()) / spread) if spread > 0 else 1.0
+    offset = np.zeros(3)
+    if pairs:
+        landmark, body = pairs[0]
+        p, q = human["positions"][:, body], motion["landmark_targets"][:, landmark, :3]
+        valid = np.isfinite(p).all(axis=1) & np.isfinite(q).all(axis=1)
+        if valid.any():
+            offset = q[valid].mean(axis=0) - scale * rotation @ p[valid].mean(axis=0)
+    return {"rotation": rotation, "scale": scale, "heading_deg": float(np.degrees(heading)), "offset": offset}
+
+
+def write_trial(trial, markers_path, markerset_path, motion_path, segments_path, urdf_path, robot_map_path, metrics_path, out_dir):
     """Writes every per-trial file into out_dir; trial.json (the page's summary of the trial) last."""
     os.makedirs(out_dir, exist_ok=True)
     motion = read_motion(motion_path)
@@ -187,11 +242,27 @@ def write_trial(trial, motion_path, segments_path, urdf_path, robot_map_path, me
     if "landmark_targets" in motion:
         targets = motion["landmark_targets"][picked, :, :3]
         landmarks = {"names": motion["landmark_names"], "positions": _b64(targets, "<f4")}
+    # The human as captured, brought into the robot's frame by the heading, scale and offset syn-retarget
+    # applied (fitted here from the landmark correspondences; the player adds its "beside" offset).
+    human = read_human(markers_path)
+    if human["positions"].shape[0] != len(time):
+        raise ValueError(f"{markers_path}: {human['positions'].shape[0]} frames, {motion_path} has {len(time)}")
+    alignment = fit_human_alignment(human, motion, markerset_path)
+    human_positions = alignment["scale"] * np.einsum("ij,tnj->tni", alignment["rotation"], human["positions"]) \
+        + alignment["offset"]
+    # Scaled by height, the human's legs are shorter than the robot's: stand it on the ground (its lowest
+    # point's 5th percentile over the trial at z = 0) so its steps read against the grid.
+    lowest = np.nanmin(human_positions[:, :, 2], axis=1) if human_positions.shape[1] else np.zeros(1)
+    if np.isfinite(lowest).any():
+        human_positions[:, :, 2] -= np.nanpercentile(lowest, 5)
+    human_export = {"names": human["names"], "parents": human["parents"],
+                    "positions": _b64(human_positions[picked], "<f4"),
+                    "scale": round(alignment["scale"], 4), "heading_deg": round(alignment["heading_deg"], 1)}
     player = {
         "id": trial_id, "motion_class": trial.get("motion_class", ""), "style": trial.get("style", ""),
         "frames": int(len(picked)), "nq": int(motion["q"].shape[1]),
         "time": _b64(time[picked] - time[0], "<f4"), "q": _b64(motion["q"][picked], "<f4"),
-        "landmarks": landmarks, "feet": [s["side"] for s in soles], "contact_source": contact_source,
+        "landmarks": landmarks, "human": human_export, "feet": [s["side"] for s in soles], "contact_source": contact_source,
         "contact": _b64(spread(feet_contact), "u1"), "sliding": _b64(spread(sliding), "u1"),
         "source_frames": picked.tolist()[:1] + [int(stride)]}
     with open(os.path.join(out_dir, "motion.js.tmp"), "w") as file:
@@ -202,7 +273,8 @@ def write_trial(trial, motion_path, segments_path, urdf_path, robot_map_path, me
     summary = {
         "id": trial_id, "motion_class": trial.get("motion_class", ""), "style": trial.get("style", ""),
         "frames": int(len(time)), "duration_s": round(float(time[-1] - time[0]), 3), "rate_hz": round(float(rate), 2),
-        "player_stride": int(stride), "fig3": fig3, "contact_dataset": has_contact,
+        "player_stride": int(stride), "fig3": fig3,
+        "human_alignment": {"scale": round(alignment["scale"], 4), "heading_deg": round(alignment["heading_deg"], 1)}, "contact_dataset": has_contact,
         "contact_source": contact_source,
         "sliding_frames_estimated": int(sliding.any(axis=1).sum()),
         "foot_sliding_ratio": metrics.get("trial", {}).get("foot_sliding_ratio"),
