@@ -77,6 +77,8 @@ try {
 
   await page.locator('#player').screenshot({ path: path.join(shots, 'player_frame_a.png') });
   await page.screenshot({ path: path.join(shots, 'report_page.png') });
+  await page.locator('#figures').scrollIntoViewIfNeeded();
+  await page.screenshot({ path: path.join(shots, 'report_figures.png') });
 
   // The slider to the middle, as a user drags it (input event).
   const middle = await page.evaluate(() => {

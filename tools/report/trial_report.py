@@ -116,7 +116,7 @@ def landmark_error_figure(motion, trial_id, stem):
         axes.set_ylabel("position error (mm)")
         axes.legend(frameon=False, fontsize=7, ncol=4, loc="upper right")
     axes.set_xlabel("time (s)")
-    axes.set_title(f"{trial_id}: landmark position error (robot link vs human landmark)")
+    axes.set_title(f"{trial_id}: landmark position error (tracked robot link vs its target)")
     plotting.save(figure, stem)
 
 
