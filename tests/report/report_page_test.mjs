@@ -80,6 +80,7 @@ try {
   await page.locator('#figures').scrollIntoViewIfNeeded();
   await page.screenshot({ path: path.join(shots, 'report_figures.png') });
 
+  const poseBefore = await page.evaluate(() => synPlayer.linkPositions());
   // The slider to the middle, as a user drags it (input event).
   const middle = await page.evaluate(() => {
     const slider = document.getElementById('slider');
@@ -89,6 +90,13 @@ try {
   });
   check(middle > 0 && (await page.evaluate(() => synPlayer.frame())) === middle, `the slider moves the player to frame ${middle}`);
   const { changed } = await snapshot();
+  // The pose itself, not just the camera following the pelvis: links relative to the root moved.
+  const poseAfter = await page.evaluate(() => synPlayer.linkPositions());
+  let moved = 0;
+  poseAfter.forEach((p, i) => p.forEach((v, c) => {
+    moved = Math.max(moved, Math.abs((v - poseAfter[0][c]) - (poseBefore[i][c] - poseBefore[0][c])));
+  }));
+  check(moved > 0.05, `the slider changes the pose relative to the pelvis (a link moved ${(100 * moved).toFixed(1)} cm)`);
   check(changed > 200, `moving the slider changes the drawn pose (${changed} pixels differ)`);
   await page.locator('#player').screenshot({ path: path.join(shots, 'player_frame_b.png') });
   const shotA = fs.readFileSync(path.join(shots, 'player_frame_a.png'));

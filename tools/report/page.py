@@ -118,6 +118,12 @@ def write_page(archive, three_path, here, command_line):
         else:
             body.append('<p class="missing">Contact phases: not available (motion.h5 has no <code>contact</code> '
                         "dataset). The player shows contacts estimated from the sole points instead.</p>")
+        alignment = t.get("human_alignment", {})
+        body.append(f'<p class="note">{t["frames"]} frames at {t["rate_hz"]} Hz (the player samples '
+                    f'one in {t["player_stride"]}); foot sliding (syn-evaluate, 1 kHz): {_number(t["foot_sliding_ratio"])}; '
+                    f'frames the player marks sliding: {t["sliding_frames_estimated"]}; the human is drawn at scale '
+                    f'{alignment.get("scale")} and heading {alignment.get("heading_deg")}° (fitted to the landmark '
+                    "targets, as syn-retarget placed them).</p>")
         rows = [[w["frame"], f'<button class="play" data-trial="{html.escape(tid)}" data-time="{w["time"]}">'
                  f'{w["time"]} s</button>', html.escape(w["landmark"]), w["error_mm"], _number(w["angle_deg"])]
                 for w in t["worst_frames"]]
