@@ -177,7 +177,8 @@ def fig7(metrics_paths, synergies_paths, project_pairs, output_stem):
         axes.set_xticks(range(len(groups)))
         axes.set_xticklabels(groups, rotation=30, ha="right", fontsize=8)
         axes.set_ylabel(label)
-    axes_pair[0].legend(frameon=False, fontsize=8)
+    axes_pair[0].set_ylim(0, 1.3)  # a ratio: the legend goes in the headroom
+    axes_pair[0].legend(frameon=False, fontsize=8, ncol=4, loc="upper left")
     if not project_pairs:
         axes_pair[1].text(0.98, 0.98, "text-to-motion: run `make project`", ha="right", va="top", fontsize=8,
                           transform=axes_pair[1].transAxes, color="#666")
@@ -202,8 +203,8 @@ def power_table(csv_path, output_stem):
     figure, axes = plotting.new_figure(max(4.0, 1.1 * len(classes) + 2), 3.4)
     names = sorted(classes)
     means = np.array([np.mean(classes[name], axis=0) for name in names]).reshape(-1, 3)
-    axes.bar(np.arange(len(names)) - 0.2, means[:, 0], 0.4, color="#c06030", label="human")
-    axes.bar(np.arange(len(names)) + 0.2, means[:, 1], 0.4, color="#3b6fb6", label="robot")
+    axes.bar(np.arange(len(names)) - 0.2, means[:, 0], 0.4, color="#c06030", label="human model")
+    axes.bar(np.arange(len(names)) + 0.2, means[:, 1], 0.4, color="#3b6fb6", label="HRP-4C (robot)")
     axes.set_xticks(range(len(names)))
     axes.set_xticklabels(names)
     axes.set_ylabel("mean power (W/kg)")
