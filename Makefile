@@ -36,7 +36,7 @@ REPORT_PACKAGES := nodejs chromium
 # Only for `make fuzz-smoke`: libFuzzer ships with clang's runtime.
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 
-.PHONY: all setup setup-fuzz setup-report report configure build test bench bench-archive demo run release compose project power-ratio sanitize-test fuzz-smoke clean print-packages
+.PHONY: all setup setup-fuzz setup-report report report-npm configure build test bench bench-archive demo run release compose project power-ratio sanitize-test fuzz-smoke clean print-packages
 .DEFAULT_GOAL := all
 
 all: demo
@@ -163,15 +163,19 @@ bench-archive: build
 # figure, per trial and for the page, each depending on exactly the files it reads and the scripts that draw
 # it), then make redraws what changed. The page works offline, from file:// too: three.js comes from npm
 # (package-lock.json pins it) and is copied into the report folder.
-REPORT_NPM := tools/report/node_modules/three/build/three.cjs
-$(REPORT_NPM): tools/report/package.json tools/report/package-lock.json
-	@command -v npm >/dev/null || { echo "make: report needs npm (make setup-report, as root)"; exit 1; }
-	cd tools/report && npm ci --no-audit --no-fund --loglevel=error
-	@touch $@
+# npm ci runs when node_modules is missing or was installed from another package-lock.json (npm gives the
+# files it unpacks a fixed 1985 mtime, so their dates say nothing).
+REPORT_LOCK := tools/report/node_modules/.installed-package-lock.json
+report-npm:
+	@cmp -s tools/report/package-lock.json $(REPORT_LOCK) || { \
+	  command -v npm >/dev/null || { echo "make: report needs npm (make setup-report, as root)"; exit 1; }; \
+	  echo "make: npm ci in tools/report (three.js, playwright-core)"; \
+	  (cd tools/report && npm ci --no-audit --no-fund --loglevel=error) && \
+	  cp tools/report/package-lock.json $(REPORT_LOCK); }
 
 # Debian's python3 (python3-matplotlib, python3-h5py), whatever else is first on PATH.
 REPORT_PYTHON ?= /usr/bin/python3
-report: run $(REPORT_NPM)
+report: run report-npm
 	@$(REPORT_PYTHON) tools/report/report.py plan --manifest $(MANIFEST) --outputs $(OUTPUTS) --bin $(BIN)
 	@$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/$(MANIFEST_NAME)/report/rules.mk SYN_BIN=$(BIN) all
 	@echo "make: $(MANIFEST_NAME): report in $(OUTPUTS)/$(MANIFEST_NAME)/report/index.html"

@@ -125,8 +125,9 @@ def plan(archive, bin_dir):
                   f"\t@start=$$EPOCHREALTIME; {command_line(archive, 'figure', name)} && $(call report_done,{name})",
                   ""]
         targets.append(target)
-    three = os.path.relpath(THREE)
-    lines += [f"{r}/index.html: {' '.join(targets)} {sources(PAGE_SOURCES)} {TOOL} {three}",
+    # three.js: its pinned version, not its file (npm unpacks files with a fixed 1985 mtime).
+    lock = os.path.relpath(os.path.join(HERE, "package-lock.json"))
+    lines += [f"{r}/index.html: {' '.join(targets)} {sources(PAGE_SOURCES)} {TOOL} {lock}",
               f"\t@start=$$EPOCHREALTIME; {command_line(archive, 'page')} && $(call report_done,page)", ""]
     os.makedirs(r, exist_ok=True)
     text = "\n".join(lines)
@@ -188,7 +189,7 @@ def main():
                   f"{args.manifest}` first", file=sys.stderr)
             return 1
         if not os.path.exists(THREE):
-            print(f"report.py: {os.path.relpath(THREE)} is missing: run `npm ci` in {os.path.relpath(HERE)}",
+            print(f"report.py: {os.path.relpath(THREE)} is missing: run `make report-npm`",
                   file=sys.stderr)
             return 1
         plan(archive, args.bin)
