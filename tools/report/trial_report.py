@@ -171,21 +171,29 @@ def fit_human_alignment(human, motion, markerset_path):
     link_reference + scale * heading * (sample - reference sample) per landmark, so the displacements of each
     landmark's body about its mean, pooled over landmarks and frames, give heading and scale by a 2-D
     Procrustes fit (yaw) and the ratio of spreads (scale); the offset puts the first landmark (the pelvis) on
-    its targets' mean. Without correspondences (marker-defined landmarks) only the offset is fitted."""
+    its targets' mean. A landmark is a body (BVH) or the mean of its origin markers (C3D, joints)."""
     with open(markerset_path, "rb") as file:
         entries = tomllib.load(file).get("landmark", [])
     names = {name: i for i, name in enumerate(human["names"])}
-    pairs = []
+
+    def pick(alternatives):  # "A|B": the first name the capture has
+        return next((names[n] for n in alternatives.split("|") if n in names), None)
+
+    pairs = []  # (landmark index in motion.h5, the landmark's origin in the capture [T, 3])
     for entry in entries:
-        if "body" not in entry or entry["name"] not in motion.get("landmark_names", []):
+        if entry.get("name") not in motion.get("landmark_names", []):
             continue
-        body = next((names[b] for b in entry["body"].split("|") if b in names), None)
-        if body is not None:
-            pairs.append((motion["landmark_names"].index(entry["name"]), body))
+        if "body" in entry:
+            indexes = [pick(entry["body"])]
+        else:  # marker-defined: the landmark's origin is the mean of its origin markers
+            indexes = [pick(item) for item in entry.get("origin", [])]
+        if indexes and None not in indexes:
+            pairs.append((motion["landmark_names"].index(entry["name"]),
+                          human["positions"][:, indexes].mean(axis=1)))
     rotation, scale, heading = np.eye(3), 1.0, 0.0
     p_all, q_all = [], []
-    for landmark, body in pairs:
-        p, q = human["positions"][:, body], motion["landmark_targets"][:, landmark, :3]
+    for landmark, p in pairs:
+        q = motion["landmark_targets"][:, landmark, :3]
         valid = np.isfinite(p).all(axis=1) & np.isfinite(q).all(axis=1)
         if valid.sum() > 1:
             p_all.append(p[valid] - p[valid].mean(axis=0))
@@ -199,12 +207,13 @@ def fit_human_alignment(human, motion, markerset_path):
         scale = float(np.sqrt((dq ** 2).sum()) / spread) if spread > 0 else 1.0
     offset = np.zeros(3)
     if pairs:
-        landmark, body = pairs[0]
-        p, q = human["positions"][:, body], motion["landmark_targets"][:, landmark, :3]
+        landmark, p = pairs[0]
+        q = motion["landmark_targets"][:, landmark, :3]
         valid = np.isfinite(p).all(axis=1) & np.isfinite(q).all(axis=1)
         if valid.any():
             offset = q[valid].mean(axis=0) - scale * rotation @ p[valid].mean(axis=0)
-    return {"rotation": rotation, "scale": scale, "heading_deg": float(np.degrees(heading)), "offset": offset}
+    return {"rotation": rotation, "scale": scale, "heading_deg": float(np.degrees(heading)), "offset": offset,
+            "pairs": pairs}
 
 
 def write_trial(trial, markers_path, markerset_path, motion_path, segments_path, urdf_path, robot_map_path, metrics_path, out_dir):
