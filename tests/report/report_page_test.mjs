@@ -103,6 +103,20 @@ try {
   const shotB = fs.readFileSync(path.join(shots, 'player_frame_b.png'));
   check(!shotA.equals(shotB), 'the two player screenshots differ');
 
+  // Play advances time; a worst-frame button shows its trial at its moment.
+  const playedFrom = await page.evaluate(() => synPlayer.frame());
+  await page.click('#play');
+  await page.waitForTimeout(700);
+  await page.click('#play');
+  const playedTo = await page.evaluate(() => synPlayer.frame());
+  check(playedTo !== playedFrom, `play advances the motion (frame ${playedFrom} -> ${playedTo})`);
+  const button = page.locator('article button.play[data-time]:not([data-time="0"])').last();
+  const wanted = { trial: await button.getAttribute('data-trial'), time: Number(await button.getAttribute('data-time')) };
+  await button.click();
+  await page.waitForFunction((id) => SynReport.current() === id, wanted.trial);
+  const shown = await page.evaluate(() => Number(document.getElementById('clock').textContent.split(' ')[0]));
+  check(Math.abs(shown - wanted.time) < 0.05, `a worst-frame button shows ${wanted.trial} at ${wanted.time} s (clock ${shown} s)`);
+
   // player.js FK against the numpy FK at two frames of every trial.
   let worst = 0;
   for (const [trial, frames] of Object.entries(expected.frames)) {
