@@ -8,7 +8,8 @@ the free-base quaternion convention and every joint origin and axis on the links
 
   check_fk.py MANIFEST OUTPUTS [EXPECTED_JSON]
 
-It also checks the human shown beside the robot: the heading and scale trial_report.py fits must carry each
+It also checks the sliding frames the player highlights against syn-evaluate's foot-sliding ratio, and the
+human shown beside the robot: the heading and scale trial_report.py fits must carry each
 landmark's captured motion exactly onto its targets' motion, as syn-retarget's targets are built.
 
 EXPECTED_JSON (optional): link world positions at a few player frames, for the browser test to compare
@@ -25,11 +26,13 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "tools", "report"))
 from urdf_fk import Robot, quaternion_matrices  # noqa: E402
-from trial_report import PLAYER_RATE_HZ, fit_human_alignment, read_human, read_motion  # noqa: E402
+from trial_report import (PLAYER_RATE_HZ, fit_human_alignment, read_feet, read_human, read_motion,  # noqa: E402
+                          sole_kinematics)
 
 POSITION_TOLERANCE = 1e-6   # m: both sides are float64 FK of the same q
 ANGLE_TOLERANCE = 1e-6      # rad
 ALIGNMENT_TOLERANCE = 1e-9  # m: syn-retarget's targets are an exact similarity transform of the capture
+SLIDING_TOLERANCE = 0.03    # the player's sliding frames (motion frames) vs syn-evaluate's ratio (1 kHz)
 
 
 def main():
@@ -42,7 +45,7 @@ def main():
     expected = {}
     worst_position = worst_angle = 0.0
     compared = aligned = 0
-    worst_alignment = 0.0
+    worst_alignment = worst_sliding = 0.0
     for trial in manifest["trial"]:
         path = os.path.join(outputs, manifest["name"], "trials", trial["id"], "motion.h5")
         with h5py.File(path, "r") as file:
@@ -75,6 +78,12 @@ def main():
             residual = (target[valid] - target[valid].mean(axis=0)) - (moved[valid] - moved[valid].mean(axis=0))
             worst_alignment = max(worst_alignment, np.abs(residual).max())
             aligned += 1
+        # The sliding frames the player highlights against syn-evaluate's foot-sliding ratio.
+        with open(os.path.join(trial_dir, "metrics.json")) as file:
+            metrics = json.load(file)
+        soles = sole_kinematics(robot, motion, read_feet(manifest["robot_map"]), metrics["parameters"])
+        sliding = np.any([sole["sliding"] for sole in soles], axis=0).mean()
+        worst_sliding = max(worst_sliding, abs(sliding - metrics["trial"]["foot_sliding_ratio"]))
         rate = (len(time) - 1) / (time[-1] - time[0])
         stride = max(1, int(round(rate / PLAYER_RATE_HZ)))
         player_frames = [0, (len(time) - 1) // stride // 2]
@@ -82,11 +91,12 @@ def main():
     print(f"check_fk: {compared} landmark samples; report FK vs syn-retarget: worst position difference "
           f"{worst_position:.2e} m, worst angle difference {worst_angle:.2e} rad")
     print(f"check_fk: human alignment on {aligned} landmark tracks: worst residual {worst_alignment:.2e} m")
+    print(f"check_fk: sliding frames vs syn-evaluate's foot-sliding ratio: worst difference {worst_sliding:.3f}")
     if len(sys.argv) > 3:
         with open(sys.argv[3], "w") as file:
             json.dump({"links": [link["name"] for link in robot.links], "frames": expected}, file)
     if (compared == 0 or worst_position > POSITION_TOLERANCE or worst_angle > ANGLE_TOLERANCE or aligned == 0 or
-            worst_alignment > ALIGNMENT_TOLERANCE):
+            worst_alignment > ALIGNMENT_TOLERANCE or worst_sliding > SLIDING_TOLERANCE):
         print("check_fk: FAILED", file=sys.stderr)
         return 1
     return 0

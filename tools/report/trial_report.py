@@ -71,6 +71,8 @@ def sole_kinematics(robot, motion, feet, options):
         for k in range(len(time)):
             a = np.searchsorted(time, time[k] - half)
             b = min(np.searchsorted(time, time[k] + half, side="right") - 1, len(time) - 1)
+            if b <= a:  # a window shorter than the frame spacing (30 Hz captures): the neighbouring frames
+                a, b = max(k - 1, 0), min(k + 1, len(time) - 1)
             if b > a:
                 speed[k] = np.linalg.norm(centroid[b] - centroid[a]) / (time[b] - time[a])
         contact = lowest <= options["contact_height"]
