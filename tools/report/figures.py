@@ -6,13 +6,11 @@ figure is redrawn exactly when one of them changes) and returns a dict the page 
 """
 import csv
 import json
-import math
-import os
 
-import h5py
 import numpy as np
 
 import plotting
+from files import open_hdf5
 
 COLORS = {"original": "#c9a227", "reconstruction": "#3b6fb6", "raw": "#2a9d8f", "projected": "#7b3fa0"}
 
@@ -23,7 +21,7 @@ def _text(value):
 
 def read_trial_pcs(synergies_path):
     """The trial's labels and, per segment, the variance explained by PC1-3 (NaN past the file's components)."""
-    with h5py.File(synergies_path, "r") as file:
+    with open_hdf5(synergies_path) as file:
         labels = {key: _text(file.attrs.get(key, "")) for key in ("trial", "style", "motion_class", "subject")}
         rows = []
         segments = file["segments"] if "segments" in file else {}

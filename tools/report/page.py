@@ -6,6 +6,7 @@ import json
 import os
 import shutil
 
+from files import write_atomically
 from trial_report import read_motion, read_feet
 from urdf_fk import Robot
 
@@ -151,10 +152,7 @@ def _table(header, rows, escape=True):
 
 
 def _write(path, text):
-    temporary = f"{path}.tmp-{os.getpid()}"
-    with open(temporary, "w") as file:
-        file.write(text)
-    os.replace(temporary, path)
+    write_atomically(path, text)
 
 
 PLAYER_SECTION = """<section id="player"><h2>3-D playback</h2>

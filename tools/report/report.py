@@ -12,10 +12,8 @@ temporary name and renamed; they hold no timestamps.
 """
 import argparse
 import glob
-import html
 import json
 import os
-import shutil
 import sys
 import tomllib
 
@@ -25,10 +23,10 @@ sys.path.insert(0, HERE)
 TOOL = os.path.relpath(os.path.join(HERE, "report.py"))
 # The interpreter that runs the plan runs the rules (make report uses Debian's, which has numpy, h5py, matplotlib).
 PYTHON = sys.executable or "python3"
-COMMON_SOURCES = ["plotting.py"]
+COMMON_SOURCES = ["plotting.py", "files.py"]
 TRIAL_SOURCES = COMMON_SOURCES + ["trial_report.py", "urdf_fk.py"]
 FIGURE_SOURCES = COMMON_SOURCES + ["figures.py"]
-PAGE_SOURCES = ["page.py", "urdf_fk.py", "player.js", "report.css"]
+PAGE_SOURCES = ["page.py", "files.py", "trial_report.py", "urdf_fk.py", "player.js", "report.css"]
 THREE = os.path.join(HERE, "node_modules", "three", "build", "three.cjs")
 
 
@@ -132,10 +130,9 @@ def plan(archive, bin_dir):
     os.makedirs(r, exist_ok=True)
     text = "\n".join(lines)
     rules = os.path.join(r, "rules.mk")
-    if not os.path.exists(rules) or open(rules).read() != text:
-        with open(rules + ".tmp", "w") as file:
-            file.write(text)
-        os.replace(rules + ".tmp", rules)
+    if not os.path.exists(rules) or open(rules).read() != text:  # unchanged rules keep their date
+        from files import write_atomically
+        write_atomically(rules, text)
 
 
 # ---- figures ------------------------------------------------------------------------------------------------
@@ -154,17 +151,13 @@ def figure(archive, name):
         summary = figures.fig7(archive.metrics(), archive.synergies(), pairs, stem)
     elif name == "power":
         summary = figures.power_table(archive.power_csv(), stem)
-    else:
-        raise SystemExit(f"report.py: unknown figure '{name}' (fig4, fig5, fig6, fig7, power)")
     summary["command"] = command_line(archive, "figure", name)
     write_json(stem + ".json", summary)
 
 
 def write_json(path, value):
-    temporary = f"{path}.tmp-{os.getpid()}"
-    with open(temporary, "w") as file:
-        json.dump(value, file, indent=1, sort_keys=True)
-    os.replace(temporary, path)
+    from files import write_atomically
+    write_atomically(path, json.dumps(value, indent=1, sort_keys=True))
 
 
 def main():
@@ -182,6 +175,15 @@ def main():
         return 1
     if args.action in ("trial", "figure") and not args.name:
         parser.error(f"{args.action} needs a name")
+    try:
+        return run(args, archive, parser)
+    except (OSError, KeyError, ValueError, IndexError) as error:  # h5py raises KeyError for missing datasets
+        what = f"{args.action} {args.name}" if args.name else args.action
+        print(f"report.py: {what} ({archive.manifest_path}): {type(error).__name__}: {error}", file=sys.stderr)
+        return 1
+
+
+def run(args, archive, parser):
     if args.action == "plan":
         missing = [p for p in archive.synergies() + archive.metrics() if not os.path.exists(p)]
         if missing:
@@ -205,6 +207,8 @@ def main():
                                  archive.model, archive.robot_map, archive.trial_file(t, "metrics.json"),
                                  os.path.join(archive.report, "trials", t))
     elif args.action == "figure":
+        if args.name not in ("fig4", "fig5", "fig6", "fig7", "power"):
+            parser.error(f"unknown figure '{args.name}' (fig4, fig5, fig6, fig7, power)")
         figure(archive, args.name)
     elif args.action == "page":
         import page

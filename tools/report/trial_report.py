@@ -5,10 +5,10 @@ import json
 import os
 import tomllib
 
-import h5py
 import numpy as np
 
 import plotting
+from files import open_hdf5, write_atomically
 from urdf_fk import Robot
 
 PLAYER_RATE_HZ = 60.0   # playback samples: enough for smooth motion at a fraction of a 120 Hz capture's bytes
@@ -20,7 +20,7 @@ def _text(value):
 
 
 def read_motion(path):
-    with h5py.File(path, "r") as file:
+    with open_hdf5(path) as file:
         motion = {"time": file["time"][()], "q": file["q"][()],
                   "coordinate_names": [_text(n) for n in file["coordinate_names"][()]]}
         if "landmark_names" in file:
@@ -37,7 +37,7 @@ def read_motion(path):
 def read_human(markers_path):
     """The captured human as a point tree: bodies (BVH joints, rigid bodies) with their parents when the
     file has them, else its labelled markers with no lines. Positions [T, N, 3] in the capture's frame."""
-    with h5py.File(markers_path, "r") as file:
+    with open_hdf5(markers_path) as file:
         if "body_pose" in file and file["body_pose"].shape[1] > 0:
             names = [_text(n) for n in file["bodies"][()]]
             parents = [_text(n) for n in file["body_parents"][()]] if "body_parents" in file else [""] * len(names)
@@ -86,7 +86,7 @@ def _b64(array, dtype):
 
 
 def momentum_figure(segments_path, motion, trial_id, stem):
-    with h5py.File(segments_path, "r") as file:
+    with open_hdf5(segments_path) as file:
         t, delta_p = file["analysis_time"][()], file["delta_p"][()]
         boundaries = file["boundaries"][()]
         threshold = float(file.attrs["threshold_used"])
@@ -122,7 +122,7 @@ def landmark_error_figure(motion, trial_id, stem):
     plotting.save(figure, stem)
 
 
-def contact_figure(motion, soles, trial_id, stem):
+def contact_figure(motion, trial_id, stem):
     """The motion file's contact phases when it has them; the estimated ones are drawn in the player only."""
     figure, axes = plotting.new_figure(8.0, 1.6)
     if "contact" not in motion:
@@ -230,7 +230,7 @@ def write_trial(trial, markers_path, markerset_path, motion_path, segments_path,
     trial_id = trial["id"]
     fig3 = momentum_figure(segments_path, motion, trial_id, os.path.join(out_dir, "fig3"))
     landmark_error_figure(motion, trial_id, os.path.join(out_dir, "landmark_error"))
-    has_contact = contact_figure(motion, None, trial_id, os.path.join(out_dir, "contact"))
+    has_contact = contact_figure(motion, trial_id, os.path.join(out_dir, "contact"))
     soles = sole_kinematics(robot, motion, read_feet(robot_map_path), sliding_options)
 
     # Player samples: every stride-th frame.
@@ -276,9 +276,8 @@ def write_trial(trial, markers_path, markerset_path, motion_path, segments_path,
         "landmarks": landmarks, "human": human_export, "feet": [s["side"] for s in soles], "contact_source": contact_source,
         "contact": _b64(spread(feet_contact), "u1"), "sliding": _b64(spread(sliding), "u1"),
         "source_frames": picked.tolist()[:1] + [int(stride)]}
-    with open(os.path.join(out_dir, "motion.js.tmp"), "w") as file:
-        file.write("SynReport.addTrial(" + json.dumps(player, separators=(",", ":")) + ");\n")
-    os.replace(os.path.join(out_dir, "motion.js.tmp"), os.path.join(out_dir, "motion.js"))
+    write_atomically(os.path.join(out_dir, "motion.js"),
+                      "SynReport.addTrial(" + json.dumps(player, separators=(",", ":")) + ");\n")
 
     error = motion.get("landmark_error")
     summary = {
@@ -294,6 +293,6 @@ def write_trial(trial, markers_path, markerset_path, motion_path, segments_path,
                                      for l, name in enumerate(motion["landmark_names"])
                                      if np.isfinite(error[:, l, 0]).any()} if error is not None else {},
         "worst_frames": worst_frames(motion)}
-    with open(os.path.join(out_dir, "trial.json.tmp"), "w") as file:
-        json.dump(summary, file, indent=1, sort_keys=True)
-    os.replace(os.path.join(out_dir, "trial.json.tmp"), os.path.join(out_dir, "trial.json"))
+    # Last: make's target, so an interrupted job leaves no trial.json and reruns.
+    write_atomically(os.path.join(out_dir, "trial.json"), json.dumps(summary, indent=1, sort_keys=True))
+
