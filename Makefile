@@ -7,6 +7,8 @@
 #                         evaluated and exported (outputs/compose/X.*)
 #   make bench-archive [ARCHIVE_HOURS=3 ARCHIVE_SUBJECTS=20]   generate a large archive from the CMU trials
 #                         and run the whole pipeline on it: wall time and frames/s per stage
+#   make report [MANIFEST=manifests/X.toml]   the archive's offline HTML report: the paper's figures, per-trial
+#                         plots and a 3-D player (outputs/NAME/report/index.html); redraws only what changed
 #   make project [LIBRARY=... STYLE=walk]   the paper's text-to-motion experiment on the HumanML3D and MDM
 #                         joints in ../shared/datasets/humanml3d: before/after table in outputs/project/
 #   make test             build and run every test (ctest)
@@ -28,10 +30,13 @@ BIN := $(BUILD_DIR)/bin
 DEBIAN_PACKAGES := cmake g++ make libeigen3-dev libsimbody-dev libceres-dev libsuitesparse-dev libhdf5-dev \
   nlohmann-json3-dev libcli11-dev libtomlplusplus-dev libtinyxml2-dev libssl-dev libgtest-dev libbenchmark-dev \
   python3 python3-matplotlib python3-h5py
+# Only for `make report` (npm fetches three.js once, into tools/report/node_modules) and its headless-browser
+# test (tests/report). nodesource's nodejs ships its own npm: install Debian's npm only when npm is missing.
+REPORT_PACKAGES := nodejs chromium
 # Only for `make fuzz-smoke`: libFuzzer ships with clang's runtime.
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 
-.PHONY: all setup setup-fuzz configure build test bench bench-archive demo run release compose project power-ratio sanitize-test fuzz-smoke clean print-packages
+.PHONY: all setup setup-fuzz setup-report report report-npm configure build test bench bench-archive demo run release compose project power-ratio sanitize-test fuzz-smoke clean print-packages
 .DEFAULT_GOAL := all
 
 all: demo
@@ -61,6 +66,9 @@ setup:
 
 setup-fuzz: setup
 	$(call install_missing,$(FUZZ_PACKAGES))
+
+setup-report: setup
+	$(call install_missing,$(REPORT_PACKAGES) $(if $(shell command -v npm),,npm))
 
 $(BUILD_DIR)/CMakeCache.txt:
 	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) $(CMAKE_FLAGS)
@@ -149,6 +157,28 @@ bench-archive: build
 	awk -v frames=$$frames '{cpu[$$1]+=$$(NF-1); jobs[$$1]++} END{printf "  %-10s %6s %10s %14s\n","stage","jobs","cpu s","frames/s/core"; \
 	  for (st in cpu) printf "  %-10s %6d %10.1f %14.0f\n", st, jobs[st], cpu[st], (st=="library"||st=="summary") ? 0 : frames/cpu[st]}' \
 	  $(OUTPUTS)/archive/progress.log | sort
+
+# ---- report ----------------------------------------------------------------------------
+# `make report MANIFEST=...`: tools/report/report.py plan writes outputs/NAME/report/rules.mk (one target per
+# figure, per trial and for the page, each depending on exactly the files it reads and the scripts that draw
+# it), then make redraws what changed. The page works offline, from file:// too: three.js comes from npm
+# (package-lock.json pins it) and is copied into the report folder.
+# npm ci runs when node_modules is missing or was installed from another package-lock.json (npm gives the
+# files it unpacks a fixed 1985 mtime, so their dates say nothing).
+REPORT_LOCK := tools/report/node_modules/.installed-package-lock.json
+report-npm:
+	@cmp -s tools/report/package-lock.json $(REPORT_LOCK) || { \
+	  command -v npm >/dev/null || { echo "make: report needs npm (make setup-report, as root)"; exit 1; }; \
+	  echo "make: npm ci in tools/report (three.js, playwright-core)"; \
+	  (cd tools/report && npm ci --no-audit --no-fund --loglevel=error) && \
+	  cp tools/report/package-lock.json $(REPORT_LOCK); }
+
+# Debian's python3 (python3-matplotlib, python3-h5py), whatever else is first on PATH.
+REPORT_PYTHON ?= /usr/bin/python3
+report: run report-npm
+	@$(REPORT_PYTHON) tools/report/report.py plan --manifest $(MANIFEST) --outputs $(OUTPUTS) --bin $(BIN)
+	@$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/$(MANIFEST_NAME)/report/rules.mk SYN_BIN=$(BIN) all
+	@echo "make: $(MANIFEST_NAME): report in $(OUTPUTS)/$(MANIFEST_NAME)/report/index.html"
 
 # ---- text-to-motion projection ---------------------------------------------------------
 # Each [T,22,3] joints file is ingested and retargeted with the humanml3d22 marker set, then projected.
