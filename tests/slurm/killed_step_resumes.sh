@@ -14,28 +14,29 @@ skip_unless_slurm
 manifest=${1:-manifests/demo.toml}
 jobs=${JOBS:-2}
 name=$(sed -n 's/^name *= *"\(.*\)".*/\1/p' "$manifest" | head -n 1)
-out=outputs-slurm-resume
-rules=$out/$name/rules.mk
 log=$(jobcomp_log)
+# A tree sharing this one's sources, data and build, with its own outputs/ (so the release can be compared).
+tree=$(scratch_tree slurm-resume)
+out=$tree/outputs
+rules=$out/$name/rules.mk
 run_log=/tmp/syn-slurm-resume.$$.log
 trap 'rm -f $run_log' EXIT
 
 # Each plan output and the srun job name that writes it: "OUTPUT syn-STAGE-TRIAL".
 outputs_and_jobs() {
-  awk '$1 ~ /:$/ && $0 !~ /^(all|\.)/ {target = $1; sub(/:$/, "", target)}
+  awk -v tree="$tree/" '$1 ~ /:$/ && $0 !~ /^(all|\.)/ {target = $1; sub(/:$/, "", target); target = tree target}
        /call syn_launch,/ {match($0, /call syn_launch,[^)]*/); job = substr($0, RSTART + 16, RLENGTH - 16);
                            sub(/,/, "-", job); print target, "syn-" job}' "$rules"
 }
 
-rm -rf "$out"
 from=$(wc -l < "$log")
-make --no-print-directory run MANIFEST="$manifest" OUTPUTS=$out JOBS="$jobs" CLUSTER=slurm > "$run_log" 2>&1 &
+make --no-print-directory -C "$tree" run MANIFEST="$manifest" JOBS="$jobs" CLUSTER=slurm > "$run_log" 2>&1 &
 make_pid=$!
 
 # The first retarget step, once it has run for a second (retargeting a demo trial takes several).
 victim=
 for _ in $(seq 1200); do
-  victim=$(squeue -h -t R -o '%i %j %Z %M' | awk -v dir="$PWD" '$2 ~ /^syn-retarget-/ && $3 == dir && $4 != "0:00" {print $1, $2; exit}')
+  victim=$(squeue -h -t R -o '%i %j %Z %M' | awk -v dir="$tree" '$2 ~ /^syn-retarget-/ && $3 == dir && $4 != "0:00" {print $1, $2; exit}')
   [ -n "$victim" ] && break
   kill -0 $make_pid 2>/dev/null || { cat "$run_log"; fail "make finished before a retarget step ran for a second"; }
   sleep 0.1
@@ -48,7 +49,7 @@ echo "scancel $victim_id ($victim_job) after $(squeue -h -j "$victim_id" -o %M 2
 
 if wait $make_pid; then cat "$run_log"; fail "make run succeeded although step $victim_job was cancelled"; fi
 grep -q "make: retarget $trial failed" "$run_log" || { cat "$run_log"; fail "no 'retarget $trial failed' message"; }
-wait_for_jobs_to_end "$PWD"
+wait_for_jobs_to_end "$tree"
 
 # No finished-looking file: neither the killed job's output nor anything downstream of it exists; what
 # remains in the trial's folder is logs, inputs made before, and at most a temporary file.
@@ -66,30 +67,30 @@ while read -r output job; do
   [ -f "$output" ] && done_before[$job]=$(stat -c %.9Y "$output")
 done < <(outputs_and_jobs)
 from_rerun=$(wc -l < "$log")
-make --no-print-directory run MANIFEST="$manifest" OUTPUTS=$out JOBS="$jobs" CLUSTER=slurm > "$run_log" 2>&1 ||
+make --no-print-directory -C "$tree" run MANIFEST="$manifest" JOBS="$jobs" CLUSTER=slurm > "$run_log" 2>&1 ||
   { cat "$run_log"; fail "the rerun failed"; }
-wait_for_jobs_to_end "$PWD"
+wait_for_jobs_to_end "$tree"
 while read -r output job; do
   if [ -n "${done_before[$job]:-}" ]; then
     [ "$(stat -c %.9Y "$output")" = "${done_before[$job]}" ] || fail "$output was rewritten by the rerun"
   fi
 done < <(outputs_and_jobs)
 missing=$(outputs_and_jobs | while read -r output job; do [ -n "${done_before[$job]:-}" ] || echo "$job"; done | LC_ALL=C sort)
-rerun=$(finished_jobs "$log" "$from_rerun" "$PWD")
+rerun=$(finished_jobs "$log" "$from_rerun" "$tree")
 [ "$(awk '{print $1}' <<< "$rerun")" = "$missing" ] ||
   fail "the rerun ran other jobs than the missing ones:
 $(diff <(echo "$missing") <(awk '{print $1}' <<< "$rerun"))"
 echo "rerun: ${#done_before[@]} finished jobs kept, $(wc -l <<< "$missing") missing jobs run"
 
 # Over both runs: each job of the plan completed exactly once; the victim's first attempt was cancelled.
-all=$(finished_jobs "$log" "$from" "$PWD")
+all=$(finished_jobs "$log" "$from" "$tree")
 [ "$(awk '$2 == "COMPLETED" {print $1}' <<< "$all")" = "$(plan_job_names "$rules")" ] ||
   fail "not every plan job completed exactly once:
 $(diff <(plan_job_names "$rules") <(awk '$2 == "COMPLETED" {print $1}' <<< "$all"))"
 grep -q "^$victim_job CANCELLED" <<< "$all" || fail "the completion log has no CANCELLED $victim_job"
 
 # And the result is the local one, byte for byte.
-make --no-print-directory release MANIFEST="$manifest" OUTPUTS=$out JOBS="$jobs" CLUSTER=slurm > "$run_log" 2>&1 ||
+make --no-print-directory -C "$tree" release MANIFEST="$manifest" JOBS="$jobs" CLUSTER=slurm > "$run_log" 2>&1 ||
   { cat "$run_log"; fail "make release CLUSTER=slurm failed"; }
 make --no-print-directory release MANIFEST="$manifest" JOBS="$jobs" > "$run_log" 2>&1 ||
   { cat "$run_log"; fail "local make release failed"; }

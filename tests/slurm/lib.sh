@@ -47,3 +47,16 @@ wait_for_jobs_to_end() {
   done
   fail "syn-* jobs still in squeue after 10 s: $(squeue -h -o '%i %j %T %Z')"
 }
+
+# A tree at outputs/NAME that shares this one's sources, data and build (symlinks) but has its own
+# outputs/. Intermediate files record their inputs' paths as given (outputs/demo/trials/...), so a run
+# compared byte for byte with the local one must use the same relative paths, only in another directory.
+scratch_tree() {
+  local dir=$PWD/outputs/$1 entry
+  rm -rf "$dir"
+  mkdir -p "$dir"
+  for entry in Makefile CMakeLists.txt manifests datasets tools "${BUILD_DIR:-build}"; do
+    ln -s "$PWD/$entry" "$dir/$entry"
+  done
+  echo "$dir"
+}

@@ -6,7 +6,8 @@
 #   tests/slurm/release_matches_local.sh [MANIFEST]     (default manifests/demo.toml; JOBS=2)
 #
 # The local release comes from outputs/ (`make release`, which runs whatever is not up to date there); the
-# SLURM run starts from nothing in outputs-slurm/. Both wall times are printed.
+# SLURM run starts from nothing in outputs/slurm-release/ (a tree sharing this one's sources, data and
+# build, so that the files record the same relative paths). Both wall times are printed.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/slurm/lib.sh
@@ -15,22 +16,21 @@ skip_unless_slurm
 manifest=${1:-manifests/demo.toml}
 jobs=${JOBS:-2}
 name=$(sed -n 's/^name *= *"\(.*\)".*/\1/p' "$manifest" | head -n 1)
-local_out=outputs slurm_out=outputs-slurm
 log=$(jobcomp_log)
+tree=$(scratch_tree slurm-release)
 
 start=$EPOCHREALTIME
-make --no-print-directory release MANIFEST="$manifest" OUTPUTS=$local_out JOBS="$jobs" > /tmp/syn-slurm-local.$$.log 2>&1 ||
+make --no-print-directory release MANIFEST="$manifest" JOBS="$jobs" > /tmp/syn-slurm-local.$$.log 2>&1 ||
   { cat /tmp/syn-slurm-local.$$.log; fail "local make release failed"; }
 local_seconds=$(awk "BEGIN{print $EPOCHREALTIME - $start}")
-local_tar=$(ls $local_out/"$name"/release/*.tar)
+local_tar=$(ls outputs/"$name"/release/*.tar)
 
-rm -rf "$slurm_out"
 from=$(wc -l < "$log")
 start=$EPOCHREALTIME
-make --no-print-directory release MANIFEST="$manifest" OUTPUTS=$slurm_out JOBS="$jobs" CLUSTER=slurm \
+make --no-print-directory -C "$tree" release MANIFEST="$manifest" JOBS="$jobs" CLUSTER=slurm \
   > /tmp/syn-slurm-run.$$.log 2>&1 || { cat /tmp/syn-slurm-run.$$.log; fail "make release CLUSTER=slurm failed"; }
 slurm_seconds=$(awk "BEGIN{print $EPOCHREALTIME - $start}")
-slurm_tar=$(ls $slurm_out/"$name"/release/*.tar)
+slurm_tar=$(ls "$tree"/outputs/"$name"/release/*.tar)
 rm -f /tmp/syn-slurm-local.$$.log /tmp/syn-slurm-run.$$.log
 
 local_sha=$(sha256sum "$local_tar" | cut -d' ' -f1)
@@ -43,9 +43,9 @@ echo "slurm  $slurm_tar sha256 $slurm_sha ($slurm_seconds s, make -j$jobs CLUSTE
 }
 
 # One completed SLURM job (srun step) per job of the plan, nothing else, nothing twice.
-wait_for_jobs_to_end "$PWD"
-expected=$(plan_job_names "$slurm_out/$name/rules.mk")
-finished=$(finished_jobs "$log" "$from" "$PWD")
+wait_for_jobs_to_end "$tree"
+expected=$(plan_job_names "$tree/outputs/$name/rules.mk")
+finished=$(finished_jobs "$log" "$from" "$tree")
 [ "$(awk '{print $1}' <<< "$finished")" = "$expected" ] ||
   fail "the job completion log does not list each job of the plan once:
 $(diff <(echo "$expected") <(awk '{print $1}' <<< "$finished"))"
