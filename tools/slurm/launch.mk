@@ -20,6 +20,7 @@ CPUS_summary ?= 1
 SRUN_FLAGS ?=
 
 # --exact: inside an allocation a step gets only the CPUs it asked for, so make -jN runs N steps side by side.
+# --quit-on-interrupt: Ctrl-C stops the steps with make (srun otherwise wants a second one within a second).
 # The job name (syn-STAGE-TRIAL) is what squeue, sacct and the job completion log show.
-syn_launch = srun --nodes=1 --ntasks=1 --cpus-per-task=$(or $(CPUS_$(1)),1) --exact --job-name=syn-$(1)-$(2) \
-  $(SRUN_FLAGS)
+syn_launch = srun --nodes=1 --ntasks=1 --cpus-per-task=$(or $(CPUS_$(1)),1) --exact --quit-on-interrupt \
+  --job-name=syn-$(1)-$(2) $(SRUN_FLAGS)
