@@ -33,17 +33,24 @@ from=$(wc -l < "$log")
 make --no-print-directory -C "$tree" run MANIFEST="$manifest" JOBS="$jobs" CLUSTER=slurm > "$run_log" 2>&1 &
 make_pid=$!
 
-# The first retarget step, once it has run for a second (retargeting a demo trial takes several).
-victim=
-for _ in $(seq 1200); do
-  victim=$(squeue -h -t R -o '%i %j %Z %M' | awk -v dir="$tree" '$2 ~ /^syn-retarget-/ && $3 == dir && $4 != "0:00" {print $1, $2; exit}')
-  [ -n "$victim" ] && break
-  kill -0 $make_pid 2>/dev/null || { cat "$run_log"; fail "make finished before a retarget step ran for a second"; }
+# The victim: the retarget step of the trial with the largest capture (the longest retarget, so it is still
+# working when cancelled), once it has run for a second.
+for _ in $(seq 600); do [ -f "$rules" ] && break; sleep 0.1; done
+[ -f "$rules" ] || { cat "$run_log"; fail "syn-plan wrote no $rules"; }
+trial=$(awk '$1 ~ /\/markers\.h5:$/ {print $2, $1}' "$rules" | while read -r capture target; do
+  case $capture in /*) ;; *) capture=$tree/$capture ;; esac
+  echo "$(stat -c %s "$capture") $target"
+done | sort -n | tail -n 1 | sed 's|.*/trials/\([^/]*\)/markers\.h5:$|\1|')
+victim_job=syn-retarget-$trial
+victim_id=
+for _ in $(seq 3000); do
+  victim_id=$(squeue -h -t R -o '%i %j %Z %M' |
+    awk -v job="$victim_job" -v dir="$tree" '$2 == job && $3 == dir && $4 != "0:00" {print $1; exit}')
+  [ -n "$victim_id" ] && break
+  kill -0 $make_pid 2>/dev/null || { cat "$run_log"; fail "make finished before $victim_job ran for a second"; }
   sleep 0.1
 done
-[ -n "$victim" ] || fail "no retarget step running after 120 s"
-read -r victim_id victim_job <<< "$victim"
-trial=${victim_job#syn-retarget-}
+[ -n "$victim_id" ] || fail "$victim_job not running after 300 s"
 scancel "$victim_id"
 echo "scancel $victim_id ($victim_job) after $(squeue -h -j "$victim_id" -o %M 2>/dev/null || echo '?') running"
 
@@ -59,6 +66,7 @@ for downstream in segments.h5 synergies.h5 metrics.json; do
   [ ! -e "$out/$name/trials/$trial/$downstream" ] || fail "$trial/$downstream exists although its motion was cancelled"
 done
 leftovers=$(find "$out/$name/trials/$trial" -name 'motion.h5.tmp-*' -printf '%f ')
+echo "the cancelled step's log: $(tr '\n' ' ' < "$motion.log")"
 echo "after the kill, $trial/ holds: $(find "$out/$name/trials/$trial" -mindepth 1 -printf "%f ")"
 
 # The rerun: exactly the missing jobs run, the finished outputs are untouched.
