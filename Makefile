@@ -32,6 +32,7 @@ BIN := $(BUILD_DIR)/bin
 # Everything synsculpt needs, as Debian 12 packages. Nothing is downloaded at build time.
 DEBIAN_PACKAGES := cmake g++ make libeigen3-dev libsimbody-dev libceres-dev libsuitesparse-dev libhdf5-dev \
   nlohmann-json3-dev libcli11-dev libtomlplusplus-dev libtinyxml2-dev libssl-dev libgtest-dev libbenchmark-dev \
+  libcpp-httplib-dev pkg-config \
   python3 python3-matplotlib python3-h5py
 # Only for `make report` (npm fetches three.js once, into tools/report/node_modules) and its headless-browser
 # test (tests/report). nodesource's nodejs ships its own npm: install Debian's npm only when npm is missing.

@@ -42,10 +42,13 @@ class ScriptParser {
  public:
   explicit ScriptParser(const std::string& path) : fields_(path) {}
 
-  ComposeScript parse() {
+  ComposeScript parse() { return parseTable(fields_.parseFile()); }
+  ComposeScript parse(const std::string& toml_text) { return parseTable(fields_.parseText(toml_text)); }
+
+ private:
+  ComposeScript parseTable(const toml::table& root) {
     ComposeScript script;
     script.file = fields_.file();
-    const toml::table root = fields_.parseFile();
     for (const auto& [key, value] : root) {
       const std::string name(key.str());
       if (name == "model") {
@@ -71,7 +74,6 @@ class ScriptParser {
     return script;
   }
 
- private:
   void parseStart(const toml::table& table, ComposeScript& script) const {
     script.start_line = LineOf(table);
     bool has_time = false;
@@ -170,5 +172,9 @@ class ScriptParser {
 }  // namespace
 
 ComposeScript LoadComposeScript(const std::string& path) { return ScriptParser(path).parse(); }
+
+ComposeScript ParseComposeScript(const std::string& toml_text, const std::string& file_name) {
+  return ScriptParser(file_name).parse(toml_text);
+}
 
 }  // namespace syn

@@ -61,5 +61,7 @@ struct ComposeScript {
 
 // Throws DataError at script:line.
 [[nodiscard]] ComposeScript LoadComposeScript(const std::string& path);
+// The same from a script's text (the studio's POST body), errors located at file_name:line.
+[[nodiscard]] ComposeScript ParseComposeScript(const std::string& toml_text, const std::string& file_name);
 
 }  // namespace syn
