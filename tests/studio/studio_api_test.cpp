@@ -9,8 +9,6 @@
 #include <fstream>
 #include <thread>
 
-#include <httplib.h>
-
 #include "common/file_bytes.h"
 #include "common/motion_file.h"
 #include "stages/library/style_library.h"
@@ -21,6 +19,9 @@
 #include "tests/support/shared_data.h"
 #include "tools/studio/studio.h"
 #include "tools/studio/studio_server.h"
+
+// Last: a header it pulls in defines macros that break Eigen's headers included after it.
+#include <httplib.h>
 
 namespace syn {
 namespace {
@@ -72,10 +73,10 @@ class StudioApiTest : public ::testing::Test {
     client.set_read_timeout(60, 0);
     return client.Post("/api/compose", body, "application/toml");
   }
-  static std::string Model() { return testing::SourcePath(testing::kG1Urdf); }
+  static std::string ModelPath() { return testing::SourcePath(testing::kG1Urdf); }
   // Two of the trial's segments: keyframed gains, a tempo change, repetitions, two interpolations.
   static std::string TwoStepScript() {
-    return "model = \"" + Model() + "\"\n"
+    return "model = \"" + ModelPath() + "\"\n"
            "start = { synergy = \"modern/05_02/0\" }\n"
            "[[step]]\n"
            "synergy = \"modern/05_02/0\"\n"
@@ -150,7 +151,7 @@ TEST_F(StudioApiTest, ComposeRoundTripIsSynComposesMotionAndSynEvaluatesMetrics)
 
   // syn-evaluate at the studio's grid and feet gives the same trial metrics.
   const testing::CommandResult evaluated = testing::RunCommand(
-      testing::BinPath("syn-evaluate") + " " + motion_path + " --model " + Model() + " --robot-map " +
+      testing::BinPath("syn-evaluate") + " " + motion_path + " --model " + ModelPath() + " --robot-map " +
       testing::SourcePath(testing::kG1Map) + " --eval-rate " + std::to_string(studio_->options().eval_rate) +
       " -o " + metrics_path);
   ASSERT_EQ(evaluated.exit_code, 0) << evaluated.output;
@@ -178,7 +179,7 @@ TEST_F(StudioApiTest, LibraryListsStylesSegmentsAndSigma) {
   const nlohmann::json library = nlohmann::json::parse(reply->body);
   ASSERT_EQ(library["styles"].size(), 1u);
   EXPECT_EQ(library["styles"][0]["name"], "modern");
-  EXPECT_EQ(library["model"], Model());
+  EXPECT_EQ(library["model"], ModelPath());
   const LibraryReader reader(*dir_ + "/library.h5");
   const nlohmann::json& segments = library["styles"][0]["segments"];
   ASSERT_EQ(segments.size(), reader.synergyNames().size());
@@ -196,7 +197,7 @@ TEST_F(StudioApiTest, BadScriptsGet400WithTheirLineAndTheServerGoesOn) {
   struct Case {
     std::string what, body, expected;
   };
-  const std::string head = "model = \"" + Model() + "\"\n";
+  const std::string head = "model = \"" + ModelPath() + "\"\n";
   const std::vector<Case> cases = {
       {"malformed TOML", head + "[[step]]\nsynergy = \"modern/05_02/0\nrepetitions = 2\n", "script.toml:3"},
       {"unknown segment", head + "[[step]]\nsynergy = \"salsa/60_10/9\"\n", "script.toml:2"},

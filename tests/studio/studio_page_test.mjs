@@ -1,0 +1,82 @@
+// syn-studio's page in headless Chromium (playwright-core from tools/report/node_modules): it loads with no
+// console error, composes, moving one coefficient slider recomposes and changes both the drawn pose (the
+// player's link positions at a fixed frame) and the momentum plot, and "save script" downloads the script
+// that was composed. Writes the page's q and the saved script for studio_page_test.sh to compose in batch.
+//
+//   node studio_page_test.mjs URL OUT_DIR
+import { createRequire } from 'node:module';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const require = createRequire(path.join(here, '..', '..', 'tools', 'report', 'package.json'));
+const { chromium } = require('playwright-core');
+
+const [url, out] = process.argv.slice(2);
+fs.mkdirSync(out, { recursive: true });
+const failures = [];
+const started = Date.now();
+const check = (ok, what) => {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what} [${((Date.now() - started) / 1000).toFixed(1)} s]`);
+  if (!ok) failures.push(what);
+};
+
+const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'synsculpt-studio-chromium-'));
+const browser = await chromium.launchPersistentContext(profile, {
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  viewport: { width: 1400, height: 900 },
+  acceptDownloads: true,
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+         '--disable-background-networking', '--disable-component-update', '--disable-sync',
+         '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+});
+try {
+  const page = await browser.newPage();
+  const errors = [];
+  page.on('console', (message) => { if (message.type() === 'error') errors.push(message.text()); });
+  page.on('pageerror', (error) => errors.push(String(error)));
+  await page.goto(url, { waitUntil: 'load' });
+  await page.waitForFunction(() => window.studio && studio.composeCount > 0, null, { timeout: 30000 });
+  check(await page.evaluate(() => studio.lastResult !== null), 'the page composed its first script');
+
+  // The pose at a fixed instant, the momentum plot's pixels and the composed q, before and after a slider move.
+  const snapshot = () => page.evaluate(() => {
+    studio.player.pause();
+    const frame = Math.floor(studio.player.frameCount() * 0.8);
+    studio.player.setFrame(frame);
+    return { links: studio.player.linkPositions(), plot: document.getElementById('plot-momentum').toDataURL(),
+             count: studio.composeCount, frames: studio.lastResult.time.length };
+  });
+  const before = await snapshot();
+  await page.screenshot({ path: path.join(out, 'before.png') });
+  const slider = page.locator('input[data-test="gain-0-0-0"]');
+  check(await slider.count() === 1, 'the first step has a slider for its first coefficient');
+  await slider.evaluate((input) => { input.value = '1.8'; input.dispatchEvent(new Event('input')); });
+  await page.waitForFunction((count) => studio.composeCount > count && document.getElementById('status')
+    .textContent.startsWith('composed'), before.count, { timeout: 30000 });
+  const after = await snapshot();
+  await page.screenshot({ path: path.join(out, 'after.png') });
+  let moved = 0;
+  before.links.forEach((p, i) => {
+    moved = Math.max(moved, Math.hypot(p[0] - after.links[i][0], p[1] - after.links[i][1], p[2] - after.links[i][2]));
+  });
+  check(moved > 0.01, `moving a1/σ1 to 1.8 moves the drawn robot at 80 % of the motion (largest link move ${moved.toFixed(3)} m)`);
+  check(before.plot !== after.plot, 'the momentum plot changed');
+  check(await page.evaluate(() => studio.state.steps[0].keyframes[0].gain[0] === 1.8), 'the script holds gain 1.8');
+
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#save')]);
+  const saved = path.join(out, 'saved.toml');
+  await download.saveAs(saved);
+  const text = fs.readFileSync(saved, 'utf8');
+  check(text === await page.evaluate(() => studio.lastText), 'the saved script is the text last composed');
+  fs.writeFileSync(path.join(out, 'page_motion.json'),
+                   JSON.stringify(await page.evaluate(() => ({ time: studio.lastResult.time, q: studio.lastResult.q }))));
+  check(errors.length === 0, `no console errors${errors.length ? ': ' + errors.join(' | ') : ''}`);
+} finally {
+  await browser.close();
+  fs.rmSync(profile, { recursive: true, force: true });
+}
+console.log(failures.length ? `studio_page_test: ${failures.length} failed` : 'studio_page_test: all passed');
+process.exit(failures.length ? 1 : 0);
