@@ -7,6 +7,8 @@
 #   make release MANIFEST=manifests/X.toml   a deterministic tar of the archive's results
 #   make compose SCRIPT=manifests/scripts/X.toml [LIBRARY=outputs/demo/library.h5]   a scripted motion,
 #                         evaluated and exported (outputs/compose/X.*)
+#   make studio [LIBRARY=outputs/demo/library.h5 SCRIPT=... PORT=8080]   the SynSculptor studio: compose from
+#                         the library in the browser (http://127.0.0.1:8080/), load and save compose scripts
 #   make bench-archive [ARCHIVE_HOURS=3 ARCHIVE_SUBJECTS=20]   generate a large archive from the CMU trials
 #                         and run the whole pipeline on it: wall time and frames/s per stage
 #   make report [MANIFEST=manifests/X.toml]   the archive's offline HTML report: the paper's figures, per-trial
@@ -42,7 +44,7 @@ FUZZ_PACKAGES := clang libclang-rt-14-dev
 # Only for `make cluster-up` (installed by tools/slurm/cluster-up.sh, which waits for the dpkg lock).
 SLURM_PACKAGES := slurmctld slurmd slurm-client munge
 
-.PHONY: all setup setup-fuzz setup-report report report-npm configure build test bench bench-archive demo run release compose project power-ratio sanitize-test fuzz-smoke clean print-packages cluster-up cluster-down check-cluster
+.PHONY: all setup setup-fuzz setup-report report report-npm configure build test bench bench-archive demo run release compose studio project power-ratio sanitize-test fuzz-smoke clean print-packages cluster-up cluster-down check-cluster
 .DEFAULT_GOAL := all
 
 all: demo
@@ -265,6 +267,14 @@ compose: build
 	$(BIN)/syn-evaluate $$out/$$name.motion.h5 --model $(COMPOSE_MODEL) --robot-map $(COMPOSE_MAP) -o $$out/$$name.metrics.json && \
 	$(BIN)/syn-export $$out/$$name.motion.h5 -o $$out/$$name.csv --format robot-csv --model $(COMPOSE_MODEL) --rate 30 && \
 	$(BIN)/syn-export $$out/$$name.motion.h5 -o $$out/$$name.mot --model $(COMPOSE_MODEL)
+
+# ---- the studio ----------------------------------------------------------------------------
+# `make studio [LIBRARY=...] [SCRIPT=...] [PORT=8080]`: syn-studio on the library (the demo's by default), its page at
+# http://127.0.0.1:PORT/ until Ctrl-C. The page's three.js comes from the report's npm install.
+PORT ?= 8080
+studio: build report-npm
+	@if [ ! -f $(LIBRARY) ]; then $(MAKE) --no-print-directory demo; fi
+	$(BIN)/syn-studio --library $(LIBRARY) --model $(COMPOSE_MODEL) --robot-map $(COMPOSE_MAP) --script $(SCRIPT) --port $(PORT)
 
 # ---- a single-node SLURM cluster --------------------------------------------------------
 # Packages, munge key, a cgroup-free slurm.conf for this host, daemons started without systemd; idempotent;
