@@ -66,6 +66,27 @@ try {
   check(before.plot !== after.plot, 'the momentum plot changed');
   check(await page.evaluate(() => studio.state.steps[0].keyframes[0].gain[0] === 1.8), 'the script holds gain 1.8');
 
+  // Joint-limit warnings on the step that causes them (the dance phrase's steps hit G1's limits).
+  const placed = await page.evaluate(() => studio.lastResult.warnings.map((w) => {
+    const item = document.querySelector(`#steps li[data-step="${w.step}"]`);
+    return item !== null && item.classList.contains('warned') && item.querySelector('.warning').textContent.includes(w.message);
+  }));
+  check(placed.length > 0 && placed.every((ok) => ok), `each of the ${placed.length} joint-limit warnings is shown on its step`);
+
+  // Reorder (step 1 down) and delete (the last step): each recomposes.
+  const recomposed = async (action) => {
+    const count = await page.evaluate(() => studio.composeCount);
+    await action();
+    await page.waitForFunction((c) => studio.composeCount > c && document.getElementById('status').textContent
+      .startsWith('composed'), count, { timeout: 30000 });
+  };
+  const order = await page.evaluate(() => studio.state.steps.map((s) => s.synergy));
+  await recomposed(() => page.click('#steps li[data-step="0"] button[title="move down"]'));
+  const reordered = await page.evaluate(() => studio.lastResult.steps.map((s) => s.synergy));
+  check(reordered[0] === order[1] && reordered[1] === order[0], `moving step 1 down swaps it with step 2 (${reordered.join(', ')})`);
+  await recomposed(() => page.click(`#steps li[data-step="${order.length - 1}"] button[title="delete"]`));
+  check(await page.evaluate(() => studio.lastResult.steps.length) === order.length - 1, 'deleting the last step composes one step fewer');
+
   const [download] = await Promise.all([page.waitForEvent('download'), page.click('#save')]);
   const saved = path.join(out, 'saved.toml');
   await download.saveAs(saved);
