@@ -92,6 +92,11 @@ try {
   await download.saveAs(saved);
   const text = fs.readFileSync(saved, 'utf8');
   check(text === await page.evaluate(() => studio.lastText), 'the saved script is the text last composed');
+  // Loading the saved file gives the same script and the same motion.
+  const savedQ = await page.evaluate(() => JSON.stringify(studio.lastResult.q));
+  await recomposed(() => page.setInputFiles('#load', saved));
+  check(await page.evaluate(() => studio.scriptText()) === text, 'loading the saved script gives back the same script');
+  check(await page.evaluate(() => JSON.stringify(studio.lastResult.q)) === savedQ, 'and the same motion');
   fs.writeFileSync(path.join(out, 'page_motion.json'),
                    JSON.stringify(await page.evaluate(() => ({ time: studio.lastResult.time, q: studio.lastResult.q }))));
   check(errors.length === 0, `no console errors${errors.length ? ': ' + errors.join(' | ') : ''}`);
