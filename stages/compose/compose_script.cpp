@@ -114,8 +114,11 @@ class ScriptParser {
         step.duration = fields_.number(value, name);
         if (!(*step.duration > 0)) fields_.fail(value, "duration must be positive");
       } else if (name == "repetitions") {
-        step.repetitions = static_cast<int>(fields_.integer(value, name));
-        if (step.repetitions < 1) fields_.fail(value, "repetitions must be at least 1");
+        // Checked before narrowing: 4294967297 would otherwise wrap to 1.
+        const int64_t repetitions = fields_.integer(value, name);
+        if (repetitions < 1) fields_.fail(value, "repetitions must be at least 1");
+        if (repetitions > 1000000) fields_.fail(value, "repetitions must be at most 1000000");
+        step.repetitions = static_cast<int>(repetitions);
       } else if (name == "interpolation") {
         try {
           step.interpolation = InterpolationFromName(fields_.text(value, name));
