@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
     const syn::Studio studio(library_path, model_path, robot_map_path, options);
+    syn::PrintWarnings("syn-studio", studio.modelWarnings());
     const std::string initial_script = script_path.empty() ? "" : syn::ReadFileText(script_path);
     syn::StudioServer server(studio, syn::StudioPage::Load(options.web_root, options.report_root), initial_script);
     const int port = server.bind();

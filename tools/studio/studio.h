@@ -39,6 +39,8 @@ class Studio {
          const StudioOptions& options);
 
   const StudioOptions& options() const { return options_; }
+  // What the URDF needed forgiving (Model::warnings()), for the tool to print once.
+  const std::vector<std::string>& modelWarnings() const { return model_.warnings(); }
   // GET /api/library: the model path scripts name, and per style its segments with duration and σ.
   const nlohmann::json& library() const { return library_json_; }
   // GET /api/robot: tools/report/player.js's robot description.
