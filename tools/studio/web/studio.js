@@ -169,7 +169,7 @@
       if (key[0] === 'foot_sliding_ratio') top = Math.max(top, 0.1);
       g.fillStyle = key[1];
       steps.forEach(function (step, s) {
-        var v = step[key[0]] || 0, height = v / top * (h - 34);
+        var v = step[key[0]] || 0, height = v / top * (h - 48);  // room above for the legend
         g.fillRect(pad + s * slot + (j + 0.5) * bar, h - 16 - height, bar * 0.9, height);
         g.fillText(number(step[key[0]]), pad + s * slot + (j + 0.5) * bar, h - 20 - height);
       });
