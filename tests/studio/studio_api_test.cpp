@@ -20,7 +20,7 @@
 #include "tools/studio/studio.h"
 #include "tools/studio/studio_server.h"
 
-// Last: a header it pulls in defines macros that break Eigen's headers included after it.
+// Last: httplib.h includes <resolv.h>, whose `_res` macro breaks Eigen headers included after it.
 #include <httplib.h>
 
 namespace syn {

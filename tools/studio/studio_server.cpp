@@ -2,6 +2,8 @@
 
 #include <filesystem>
 
+// After studio_server.h (Eigen): httplib.h includes <resolv.h>, whose `_res` macro breaks Eigen headers that
+// come after it.
 #include <httplib.h>
 
 #include "common/error.h"
