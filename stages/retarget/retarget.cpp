@@ -151,6 +151,7 @@ MotionData Retarget(const std::string& markers_path, const RetargetOptions& opti
       FloatingBaseFromName(options.floating_base == "map" ? map.floating_base : options.floating_base);
   const Model model = Model::Load(options.model, model_options);
   report.notes.insert(report.notes.end(), model.warnings().begin(), model.warnings().end());
+  report.notes.insert(report.notes.end(), model.notes().begin(), model.notes().end());
   const auto joint_names = model.coordinateNames();
   CheckRobotMapNames(
       map, [&](const std::string& name) { return model.findLinkIndex(name) >= 0; },
