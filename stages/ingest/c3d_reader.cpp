@@ -1,5 +1,6 @@
 #include "stages/ingest/c3d_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -49,6 +50,8 @@ struct Parameter {
   const uint8_t* data = nullptr;
   size_t data_size = 0;
   size_t offset = 0;
+  bool locked = false;           // negative name length
+  std::string description;
 
   size_t count() const {
     size_t n = 1;
@@ -80,6 +83,8 @@ std::string TrimRight(std::string text) {
 struct Record {
   int group = 0;
   std::string name;
+  bool locked = false;
+  std::string description;
   size_t offset_at = 0;  // byte offset of 'offset to next'
   int next_offset = 0;
   bool parameter_ok = false;
@@ -91,6 +96,7 @@ enum class RecordRead { kRecord, kEnd, kRunsPast };
 RecordRead ReadRecord(const uint8_t* bytes, size_t size, size_t position, size_t end, const Numbers& numbers,
                       Record* record) {
   const int name_length = std::abs(static_cast<int8_t>(bytes[position]));
+  record->locked = static_cast<int8_t>(bytes[position]) < 0;
   record->group = static_cast<int8_t>(bytes[position + 1]);
   if (name_length == 0 || record->group == 0) return RecordRead::kEnd;
   const size_t name_at = position + 2;
@@ -99,7 +105,16 @@ RecordRead ReadRecord(const uint8_t* bytes, size_t size, size_t position, size_t
   record->offset_at = name_at + static_cast<size_t>(name_length);
   record->next_offset = numbers.int16(bytes + record->offset_at);
   const size_t body = record->offset_at + 2;
-  if (record->group < 0) return RecordRead::kRecord;
+  // Description: a length byte and that many characters, after the offset (groups) or the data (parameters).
+  const auto read_description = [&](size_t at) {
+    if (at + 1 > end) return;
+    const size_t length = bytes[at];
+    if (at + 1 + length <= end) record->description = TrimRight(std::string(reinterpret_cast<const char*>(bytes + at + 1), length));
+  };
+  if (record->group < 0) {
+    read_description(body);
+    return RecordRead::kRecord;
+  }
   Parameter& parameter = record->parameter;
   parameter.offset = position;
   record->parameter_ok = false;
@@ -114,6 +129,9 @@ RecordRead ReadRecord(const uint8_t* bytes, size_t size, size_t position, size_t
   parameter.data = bytes + body + 2 + dimension_count;
   parameter.data_size = parameter.count() * static_cast<size_t>(std::abs(parameter.type));
   record->parameter_ok = static_cast<size_t>(parameter.data - bytes) + parameter.data_size <= size;
+  parameter.locked = record->locked;
+  if (record->parameter_ok) read_description(static_cast<size_t>(parameter.data - bytes) + parameter.data_size);
+  parameter.description = record->description;
   return RecordRead::kRecord;
 }
 
@@ -121,14 +139,19 @@ RecordRead ReadRecord(const uint8_t* bytes, size_t size, size_t position, size_t
 // Its own block count (byte 3 of its 4-byte header: reserved, key 0x50, block count, processor) is a
 // lower bound only: Qualisys writes one smaller than what it uses.
 size_t ParameterSectionEnd(const uint8_t* bytes, size_t size, size_t start, size_t data_start) {
-  const size_t blocks = bytes[start + 1];
+  const size_t blocks = bytes[start + 2];
   return std::min(size, std::max(start + std::max<size_t>(blocks, 1) * kBlock, data_start > start ? data_start : size));
 }
 
 // Parses the parameter section, following each record's "offset to next".
 // A corrupt section ends the walk with a warning: what was read is kept.
+struct Group {
+  bool locked = false;
+  std::string description;
+};
+
 Parameters ReadParameters(const uint8_t* bytes, size_t size, size_t start, size_t data_start, const Numbers& numbers,
-                          std::vector<std::string>& warnings) {
+                          std::vector<std::string>& warnings, std::map<std::string, Group>* groups = nullptr) {
   Parameters parameters;
   if (start + 4 > size) return parameters;
   const size_t end = ParameterSectionEnd(bytes, size, start, data_start);
@@ -151,6 +174,7 @@ Parameters ReadParameters(const uint8_t* bytes, size_t size, size_t start, size_
     }
     if (record.group < 0) {
       group_names[-record.group] = record.name;
+      if (groups) (*groups)[record.name] = {record.locked, record.description};
     } else if (record.parameter_ok) {
       pending.push_back({record.group, record.name, record.parameter});
     } else {
@@ -665,6 +689,41 @@ MarkerData ParseC3d(const uint8_t* bytes, size_t size, const std::string& source
   RecordMetadata(numbers, header, point_layout, parameters, data);
   ReadRotations(bytes, size, parameters, numbers, frames, data);
   return data;
+}
+
+std::vector<C3dParameter> ParseC3dParameters(const uint8_t* bytes, size_t size, const std::string& source_name) {
+  if (size < kBlock) {
+    throw DataError(Location::AtByte(source_name, 0), "a C3D file has at least one 512-byte header block");
+  }
+  std::vector<std::string> warnings;
+  const Layout layout = FindParameterSection(bytes, size, warnings);
+  std::vector<C3dParameter> result;
+  if (!layout.has_parameters) return result;
+  const Header header = ReadHeader(bytes, layout.numbers);
+  std::map<std::string, Group> groups;
+  const Parameters parameters = ReadParameters(bytes, size, layout.parameter_start,
+                                               header.data_block >= 2 ? (header.data_block - 1) * kBlock : 0,
+                                               layout.numbers, warnings, &groups);
+  for (const auto& [name, group] : groups) {
+    C3dParameter entry;
+    entry.key = name + ":";
+    entry.locked = group.locked;
+    entry.description = group.description;
+    result.push_back(entry);
+  }
+  for (const auto& [key, parameter] : parameters) {
+    C3dParameter entry;
+    entry.key = key;
+    entry.type = parameter.type;
+    entry.dimensions = parameter.dimensions;
+    entry.locked = parameter.locked;
+    entry.description = parameter.description;
+    if (parameter.type == -1) entry.strings = Strings(parameters, key);
+    else entry.numbers = Numbers_(parameters, key, layout.numbers);
+    result.push_back(entry);
+  }
+  std::sort(result.begin(), result.end(), [](const C3dParameter& a, const C3dParameter& b) { return a.key < b.key; });
+  return result;
 }
 
 MarkerData ReadC3d(const std::string& path) {
