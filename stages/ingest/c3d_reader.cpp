@@ -105,11 +105,13 @@ RecordRead ReadRecord(const uint8_t* bytes, size_t size, size_t position, size_t
   record->offset_at = name_at + static_cast<size_t>(name_length);
   record->next_offset = numbers.int16(bytes + record->offset_at);
   const size_t body = record->offset_at + 2;
-  // Description: a length byte and that many characters, after the offset (groups) or the data (parameters).
+  // Description: a length byte and that many characters, after the offset (groups) or the data (parameters),
+  // within the record. OptiTrack Motive leaves both out: its next record starts right after the data.
+  const size_t record_end = record->next_offset > 0 ? std::min(end, record->offset_at + static_cast<size_t>(record->next_offset)) : end;
   const auto read_description = [&](size_t at) {
-    if (at + 1 > end) return;
+    if (at + 1 > record_end) return;
     const size_t length = bytes[at];
-    if (at + 1 + length <= end) record->description = TrimRight(std::string(reinterpret_cast<const char*>(bytes + at + 1), length));
+    if (at + 1 + length <= record_end) record->description = TrimRight(std::string(reinterpret_cast<const char*>(bytes + at + 1), length));
   };
   if (record->group < 0) {
     read_description(body);

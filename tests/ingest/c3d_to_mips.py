@@ -53,9 +53,7 @@ def main(source, destination):
         offset_at = position + 2 + name_length
         (next_offset,) = struct.unpack_from('<h', original, offset_at)
         swap16(data, offset_at)
-        body_end = offset_at + 2  # where this record's bytes end, to detect records that overlap
-        if group < 0:
-            body_end += 1 + original[body_end]  # description length and description
+        body_end = offset_at + 2  # where this record's numbers end, to detect records that overlap
         if group > 0:  # a parameter: type, dimensions, data
             type_at = offset_at + 2
             (value_type,) = struct.unpack_from('<b', original, type_at)
@@ -71,8 +69,7 @@ def main(source, destination):
             elif value_type == 4:
                 for k in range(count):
                     swap32(data, values_at + 4 * k)
-            body_end = values_at + count * abs(value_type)
-            body_end += 1 + (original[body_end] if body_end < len(original) else 0)
+            body_end = values_at + count * abs(value_type)  # (a description may follow, or not: OptiTrack)
         if next_offset == 0:
             break
         if offset_at + next_offset < body_end:
