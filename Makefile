@@ -102,7 +102,8 @@ fuzz-smoke: setup-fuzz
 	@set -o pipefail; for fuzzer in $$(ls build-fuzz/bin/*_fuzzer 2>/dev/null); do \
 	  name=$$(basename $$fuzzer); corpus=build-fuzz/corpus/$$name; mkdir -p $$corpus; \
 	  echo "== $$name: $(FUZZ_SECONDS) s"; \
-	  $$fuzzer -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1 \
+	  dict=tests/fuzz/$${name%_fuzzer}.dict; dict_flag=; [ -f $$dict ] && dict_flag=-dict=$$dict; \
+	  $$fuzzer -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1 $$dict_flag \
 	    -artifact_prefix=build-fuzz/ $$corpus tests/fuzz/seeds/$${name%_fuzzer} 2>&1 | tail -n 12 || exit 1; \
 	done
 

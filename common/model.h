@@ -80,6 +80,7 @@ class Model {
   int findLinkIndex(const std::string& link_name) const;  // -1 if absent
   const std::vector<ModelJoint>& joints() const;         // file order, plus the free base first if added
   const std::vector<std::string>& warnings() const;      // what the URDF needed forgiving ("file:line: ...")
+  const std::vector<std::string>& notes() const;         // how it was read, for -v (a floating root joint taken as the free base)
 
   struct Impl;
   const Impl& impl() const { return *impl_; }

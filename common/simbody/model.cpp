@@ -76,8 +76,13 @@ struct BodyMassAccumulator {
 
 Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
   const std::string text = ReadFileText(urdf_path);
-  const RobotDescription urdf = ParseUrdf(text, urdf_path);
+  RobotDescription urdf = ParseUrdf(text, urdf_path);
   auto impl = std::make_shared<Impl>(options.gravity);
+  // A massless root with a floating joint (world -> base_link) is the free base written out.
+  const std::string floating_root_note = options.floating_base == FloatingBase::kFixed
+                                             ? WeldFloatingRootJoint(urdf)
+                                             : TakeFloatingRootJointAsFreeBase(urdf);
+  if (!floating_root_note.empty()) impl->notes.push_back(floating_root_note);
   impl->name = urdf.name;
   impl->path = urdf_path;
   impl->sha256 = Sha256Hex(text.data(), text.size());
@@ -89,13 +94,15 @@ Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
     const UrdfJoint& joint = urdf.joints[j];
     if (joint.type == UrdfJointType::kFloating) {
       throw DataError(Location::AtLine(urdf_path, joint.line),
-                      "joint '" + joint.name + "': floating joints inside the tree are not supported; use "
-                      "--floating-base free for a free root");
+                      "joint '" + joint.name + "': a floating joint is read only as the free base, from a massless "
+                      "root link whose only joint it is (<link name=\"world\"/> -> base); inside the tree it is not "
+                      "supported");
     }
     child_joints[static_cast<size_t>(urdf.findLink(joint.parent))].push_back(static_cast<int>(j));
   }
   const UrdfLink& root = urdf.links[static_cast<size_t>(urdf.root_link)];
   FloatingBase base = options.floating_base;
+  if (base == FloatingBase::kAuto && !floating_root_note.empty()) base = FloatingBase::kFree;
   if (base == FloatingBase::kAuto) {
     bool virtual_chain = false;
     for (int j : child_joints[static_cast<size_t>(urdf.root_link)]) {
@@ -287,6 +294,7 @@ const Eigen::VectorXd& Model::uLimit() const { return impl_->u_limit; }
 const std::vector<std::string>& Model::linkNames() const { return impl_->link_names; }
 const std::vector<ModelJoint>& Model::joints() const { return impl_->joints; }
 const std::vector<std::string>& Model::warnings() const { return impl_->warnings; }
+const std::vector<std::string>& Model::notes() const { return impl_->notes; }
 
 Eigen::VectorXd Model::defaultQ() const {
   Eigen::VectorXd q = Eigen::VectorXd::Zero(impl_->nq);

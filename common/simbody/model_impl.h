@@ -55,6 +55,7 @@ struct Model::Impl {
   std::vector<std::string> coordinate_names, velocity_names, link_names;
   std::vector<LinkPlacement> links;
   std::vector<std::string> warnings;
+  std::vector<std::string> notes;
   std::vector<ModelJoint> joints;
   Eigen::VectorXd q_lower, q_upper, u_limit;
   std::vector<bool> actuated;  // [nu]

@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);
     const syn::Model model = syn::LoadModel(model_path, floating_base);
     syn::PrintWarnings("syn-evaluate", model.warnings());
+    syn::PrintNotes("syn-evaluate", model.notes(), common.verbose);
     std::vector<syn::FootPoints> feet;
     if (!robot_map_path.empty()) feet = syn::FeetOnModel(syn::LoadRobotMap(robot_map_path), model);
     const syn::MotionData motion = syn::ReadMotionFile(input);
