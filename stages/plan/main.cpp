@@ -34,7 +34,9 @@ std::vector<syn::StageParameterNames> KnownStages() {
   return {NamesOf("ingest", syn::IngestOptions{}.ToJson()), NamesOf("retarget", syn::RetargetOptions{}.ToJson()),
           NamesOf("segment", syn::SegmentOptions{}.ToJson()), SynergyParameterNames(),
           NamesOf("evaluate", syn::EvaluateOptions{}.ToJson()),
-          syn::StageParameterNames{"library", {"components"}}};
+          syn::StageParameterNames{"library", {"components"}},
+          // The subject for syn-human (stages/human/human_model.h), read by `make power-ratio`.
+          syn::StageParameterNames{"human", {"height", "mass", "sex"}}};
 }
 
 }  // namespace
