@@ -175,7 +175,8 @@ project: build
 # human's hip / knee / ankle share of sagittal leg joint power beside the published shares. The paper
 # (OpenSim's muscle model for the human) reports humans 3.3x more efficient than HRP-4C.
 # HUMAN_MODEL=deleva (default): syn-human's de Leva (1996) model for the manifest's [human] height, mass and
-#   sex (de Leva's reference subject, with a warning, for what is absent).
+#   sex; without a height, each trial's own (syn-human --height-from-markers on its markers); without a
+#   mass or sex, de Leva's reference male (73.0 kg) with a warning in the trial's human log.
 # HUMAN_MODEL=paper: the paper's human URDF (HUMANOID_SYNERGIES), the HRP-4C tree with placeholder inertias
 #   of 1 kg m^2 on every link: they dominate its torques (syn-retarget warns), so its W/kg are not a human's.
 HUMAN_MODEL ?= deleva
@@ -192,23 +193,27 @@ power-ratio: run
 	@out=$(OUTPUTS)/$(MANIFEST_NAME)/power-ratio; mkdir -p $$out; \
 	markerset=$$(sed -n 's/^markerset *= *"\(.*\)".*/\1/p' $(MANIFEST) | head -n 1); \
 	case "$(HUMAN_MODEL)" in \
-	  deleva) $(BIN)/syn-human $(HUMAN_FLAGS) -o $$out/human.urdf --robot-map-out $$out/human.toml || exit 1; \
-	    human_model=$$out/human.urdf; human_map=$$out/human.toml;; \
-	  paper) echo "make: HUMAN_MODEL=paper: placeholder inertias (1 kg m^2 per link) dominate that model's torques"; \
-	    human_model=$(HUMANOID_SYNERGIES)/human_optitrack_model.urdf; human_map=manifests/robots/hrp4c.toml;; \
+	  deleva) ;; \
+	  paper) echo "make: HUMAN_MODEL=paper: placeholder inertias (1 kg m^2 per link) dominate that model's torques";; \
 	  *) echo "make: HUMAN_MODEL must be deleva or paper"; exit 2;; \
 	esac; \
 	synergies=; for trial in $(OUTPUTS)/$(MANIFEST_NAME)/trials/*/; do synergies="$$synergies $$trial/synergies.h5"; done; \
 	for body in human $(POWER_ROBOTS); do \
 	  case $$body in \
-	    human) model=$$human_model; map=$$human_map;; \
+	    human) ;; \
 	    hrp4c) model=$(HUMANOID_SYNERGIES)/HRP4c_optitrack_model.urdf; map=manifests/robots/hrp4c.toml;; \
 	    g1) model=datasets/robots/unitree_g1/g1_29dof.urdf; map=manifests/robots/g1.toml;; \
 	    *) echo "make: unknown robot '$$body' in POWER_ROBOTS (hrp4c, g1)"; exit 2;; \
 	  esac; metrics=; \
-	  for trial in $(OUTPUTS)/$(MANIFEST_NAME)/trials/*/; do id=$$(basename $$trial); log=$$out/$$id.$$body.log; \
+	  for trial in $(OUTPUTS)/$(MANIFEST_NAME)/trials/*/; do id=$$(basename $$trial); log=$$out/$$id.$$body.log; : > $$log; \
+	    if [ $$body = human ] && [ "$(HUMAN_MODEL)" = paper ]; then \
+	      model=$(HUMANOID_SYNERGIES)/human_optitrack_model.urdf; map=manifests/robots/hrp4c.toml; \
+	    elif [ $$body = human ]; then model=$$out/$$id.human.urdf; map=$$out/$$id.human.toml; \
+	      $(BIN)/syn-human $(HUMAN_FLAGS) $(if $(call human_param,height),,--height-from-markers $$trial/markers.h5) \
+	        -o $$model --robot-map-out $$map 2>> $$log || { cat $$log; exit 1; }; \
+	    fi; \
 	    $(BIN)/syn-retarget $$trial/markers.h5 -o $$out/$$id.$$body.motion.h5 --model $$model --robot-map $$map \
-	      --markerset $$markerset 2> $$log && \
+	      --markerset $$markerset 2>> $$log && \
 	    $(BIN)/syn-evaluate $$out/$$id.$$body.motion.h5 --model $$model --robot-map $$map \
 	      -o $$out/$$id.$$body.metrics.json 2>> $$log || { cat $$log; exit 1; }; \
 	    metrics="$$metrics $$out/$$id.$$body.metrics.json"; \
@@ -228,7 +233,7 @@ power-ratio: run
 	  END { for (c in class) { row = sprintf("  %-16s %6d %12.3f", c, n[c], human[c] / n[c]); \
 	      for (r = 1; r <= count; r++) { mean = robot[c, names[r]] / n[c]; row = row sprintf(" %10.3f %13.2f", mean, mean / (human[c] / n[c])) } \
 	      print row | "sort" } close("sort"); \
-	    printf "  (human: %s model; the paper reports HRP-4C / human = 3.3)\n", human_model; \
+	    printf "  (human: %s model; the paper reports HRP-4C / human = 3.3; per-trial logs in the table folder)\n", human_model; \
 	    if (walks > 0) printf "  human sagittal leg power on %d walks (|tau u|, positive and negative): hip %.0f %%, knee %.0f %%, ankle %.0f %%\n" \
 	      "  published (positive work, walking 2.0 m/s; Farris & Sawicki 2012, J. R. Soc. Interface 9:110): hip 44 %%, knee 17 %%, ankle 39 %%\n", \
 	      walks, 100 * hip / walks, 100 * knee / walks, 100 * ankle / walks }' $$out/power_ratio.csv; \

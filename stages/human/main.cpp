@@ -4,6 +4,8 @@
 
 #include "common/cli.h"
 #include "common/file_bytes.h"
+#include "common/markers_file.h"
+#include "stages/human/capture_stature.h"
 #include "stages/human/human_model.h"
 
 int main(int argc, char** argv) {
@@ -15,10 +17,14 @@ int main(int argc, char** argv) {
   syn::CommonFlags common;
   syn::AddCommonFlags(app, common);
   syn::HumanModelOptions options;
-  std::string robot_map_out;
+  std::string robot_map_out, height_from_markers;
   app.add_option("--height", options.height,
                  "Stature (m), [1, 2.5]; manifest [human] height. Default: de Leva's reference subject (1.741 m male, "
                  "1.735 m female), with a warning");
+  app.add_option("--height-from-markers", height_from_markers,
+                 "Measure the stature in a markers file (syn-ingest) instead: the vertical extent of its markers and "
+                 "bodies at the first frame with data (head top to toe tips for BVH skeletons)")
+      ->excludes("--height");
   app.add_option("--mass", options.mass,
                  "Body mass (kg), [20, 300]; manifest [human] mass. Default: de Leva's reference subject (73.0 kg "
                  "male, 61.9 kg female), with a warning");
@@ -28,6 +34,12 @@ int main(int argc, char** argv) {
   app.add_option("--robot-map-out", robot_map_out, "Also write the model's robot map (TOML) here");
   return syn::RunTool(app, argc, argv, [&] {
     syn::HumanModelSummary summary;
+    if (!height_from_markers.empty()) {
+      const syn::CaptureStature stature = syn::StatureFromCapture(syn::ReadMarkersFile(height_from_markers), height_from_markers);
+      options.height = stature.height;
+      std::cerr << "syn-human: stature " << stature.height << " m from " << height_from_markers << " frame "
+                << stature.frame << "\n";
+    }
     const syn::HumanModelFiles files = syn::BuildHumanModel(options, &summary);
     syn::PrintWarnings("syn-human", summary.warnings);
     syn::WriteFileAtomically(common.output, files.urdf);
