@@ -40,6 +40,14 @@ int main(int argc, char** argv) {
   app.add_option("--singular-cutoff", options.controller.hierarchy.singular_cutoff,
                  "Drop task-space directions whose J A^-1 J^T eigenvalue is below this fraction of the largest")
       ->capture_default_str();
+  app.add_option("--damping", options.controller.hierarchy.damping,
+                 "mu of the task forces' damped inverse lambda/(lambda^2+mu^2) on the unit-diagonal J A^-1 J^T "
+                 "(bounds the force at a singular limb; 0: undamped)")
+      ->capture_default_str();
+  bool no_effort_limits = false;
+  app.add_flag("--no-effort-limits", no_effort_limits,
+               "Do not clamp joint torques to the URDF's effort limits (for diagnosis: what the limits cost)");
+  app.parse_complete_callback([&] { options.controller.effort_limits = !no_effort_limits; });
   app.add_option("--targets", options.targets,
                  "kinematic: track the link poses of the retargeted q; landmarks: track the landmark targets "
                  "(velocity/acceleration feedforward from the retargeted q either way)")

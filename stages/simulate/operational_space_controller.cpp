@@ -1,6 +1,7 @@
 #include "stages/simulate/operational_space_controller.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace syn {
@@ -45,8 +46,15 @@ OperationalSpaceController::OperationalSpaceController(const Model& model, std::
   }
   // Only actuated velocities have limits; in contact mode none the free base is driven freely.
   for (int i = 0; i < nu; ++i) {
-    if (!model.actuatedVelocities()[static_cast<size_t>(i)]) effort_limit_[i] = std::numeric_limits<double>::infinity();
+    if (!model.actuatedVelocities()[static_cast<size_t>(i)] || !options.effort_limits) {
+      effort_limit_[i] = std::numeric_limits<double>::infinity();
+    }
   }
+  for (int i = 0; i < nu; ++i) {
+    if (!std::isfinite(effort_limit_[i]) && options.effort_limits) unlimited_.push_back(i);
+  }
+  unlimited_block_.resize(static_cast<Eigen::Index>(unlimited_.size()), static_cast<Eigen::Index>(unlimited_.size()));
+  unlimited_gap_.resize(static_cast<Eigen::Index>(unlimited_.size()));
   jacobian_.resize(6, nu);
   posture_acceleration_.resize(nu);
   bias_forces_.resize(nu);
@@ -91,12 +99,41 @@ int OperationalSpaceController::calcTorques(Workspace& workspace, const std::vec
   workspace.calcInverseDynamics(zero_, bias_forces_);  // b(q, u) + g(q)
   tau += bias_forces_;
   int saturated = 0;
+  unclipped_ = tau;
   for (Eigen::Index i = 0; i < tau.size(); ++i) {
     const double limit = effort_limit_[i];
     if (tau[i] > limit) tau[i] = limit, ++saturated;
     else if (tau[i] < -limit) tau[i] = -limit, ++saturated;
   }
+  if (saturated > 0 && !unlimited_.empty()) reconcileUnlimited(workspace, tau);
   return saturated;
+}
+
+void OperationalSpaceController::reconcileUnlimited(Workspace& workspace, Eigen::VectorXd& tau) {
+  // A clipped joint no longer does what the hierarchy planned, and the unlimited entries (the driven
+  // base) were computed to work with the planned torque: left as they are, they push against the
+  // clipped joint, its error grows, the plan asks more of it — on the 02_01 walk the waist (50 N·m,
+  // where the kinematic motion needs 107) ran away within 20 ms. So re-solve the unlimited entries w
+  // for the accelerations the plan wanted there: udot_w(w) is affine in w with slope (A⁻¹)_ww, one
+  // O(n) product per unlimited entry, done only on steps where something clipped.
+  const int n = static_cast<int>(tau.size());
+  const int m = static_cast<int>(unlimited_.size());
+  scratch_ = unclipped_ - bias_forces_;
+  workspace.calcMassInverseTimes(scratch_, wanted_udot_);
+  scratch_ = tau - bias_forces_;
+  workspace.calcMassInverseTimes(scratch_, clipped_udot_);
+  for (int c = 0; c < m; ++c) {
+    scratch_.setZero(n);
+    scratch_[unlimited_[static_cast<size_t>(c)]] = 1.0;
+    workspace.calcMassInverseTimes(scratch_, column_);
+    for (int r = 0; r < m; ++r) unlimited_block_(r, c) = column_[unlimited_[static_cast<size_t>(r)]];
+  }
+  for (int r = 0; r < m; ++r) {
+    const int i = unlimited_[static_cast<size_t>(r)];
+    unlimited_gap_[r] = wanted_udot_[i] - clipped_udot_[i];
+  }
+  unlimited_step_ = unlimited_block_.ldlt().solve(unlimited_gap_);
+  for (int r = 0; r < m; ++r) tau[unlimited_[static_cast<size_t>(r)]] += unlimited_step_[r];
 }
 
 }  // namespace syn

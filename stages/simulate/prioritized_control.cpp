@@ -1,8 +1,16 @@
 #include "stages/simulate/prioritized_control.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace syn {
+namespace {
+
+// A row whose Φ_ii is below this fraction of the level's largest is what the levels above already fix
+// (e.g. G1's torso orientation under the head's: the head link is welded to the torso): rounding noise.
+constexpr double kDroppedRow = 1e-10;
+
+}  // namespace
 
 void PrioritizedControl::calcTorques(Workspace& workspace, const std::vector<PriorityLevel>& levels,
                                      const Eigen::VectorXd& posture_acceleration, Eigen::VectorXd& torques) {
@@ -35,31 +43,48 @@ void PrioritizedControl::calcTorques(Workspace& workspace, const std::vector<Pri
       workspace.calcMassInverseTimes(column_, product_);
       solved.minv_jt.col(r) = product_;
     }
-    // Λ_k = (J_k| A⁻¹ J_k|ᵀ)⁺ by eigen-decomposition, dropping directions the levels above (or a
-    // singular limb) leave no authority over.
+    // Λ_k = (J_k| A⁻¹ J_k|ᵀ)⁺. Its rows mix units (1/kg for positions, 1/(kg m²) for a light hand's
+    // rotation: eigenvalues from 0.3 to 10⁵ on G1), so decompose the unit-diagonal Φ' = D Φ D with
+    // D = diag(Φ)^(-1/2), whose eigenvalues lie in [0, m_k] whatever the units, and Λ = D Φ'⁺ D (the
+    // exact inverse when Φ is regular; a symmetric reflexive generalized inverse otherwise, which is
+    // what keeps the projectors exact). Rows the levels above leave no authority over (Φ_ii ≈ 0) drop.
     solved.operational.resize(rows, rows);
     solved.operational.noalias() = solved.projected * solved.minv_jt;
     solved.operational = 0.5 * (solved.operational + solved.operational.transpose()).eval();
+    solved.row_scale.resize(rows);
+    const double largest_diagonal = rows > 0 ? std::max(0.0, solved.operational.diagonal().maxCoeff()) : 0.0;
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      const double diagonal = solved.operational(i, i);
+      solved.row_scale[i] = diagonal > kDroppedRow * largest_diagonal && diagonal > 0 ? 1.0 / std::sqrt(diagonal) : 0.0;
+    }
+    solved.operational = solved.row_scale.asDiagonal() * solved.operational * solved.row_scale.asDiagonal();
     solved.eigen.compute(solved.operational);
     const Eigen::VectorXd& eigenvalues = solved.eigen.eigenvalues();
     const double largest = rows > 0 ? std::max(0.0, eigenvalues.maxCoeff()) : 0.0;
     solved.inverse_eigenvalues.resize(rows);
+    solved.damped_inverse_eigenvalues.resize(rows);
     solved.rank = 0;
+    const double damping_sq = options_.damping * options_.damping;
     for (Eigen::Index i = 0; i < rows; ++i) {
-      const bool kept = largest > 0 && eigenvalues[i] > options_.singular_cutoff * largest;
-      solved.inverse_eigenvalues[i] = kept ? 1.0 / eigenvalues[i] : 0.0;
+      const double eigenvalue = eigenvalues[i];
+      const bool kept = largest > 0 && eigenvalue > options_.singular_cutoff * largest;
+      solved.inverse_eigenvalues[i] = kept ? 1.0 / eigenvalue : 0.0;
+      solved.damped_inverse_eigenvalues[i] = kept ? eigenvalue / (eigenvalue * eigenvalue + damping_sq) : 0.0;
       solved.rank += kept ? 1 : 0;
     }
     const Eigen::MatrixXd& vectors = solved.eigen.eigenvectors();
     solved.scaled.resize(rows, rows);
-    solved.scaled.noalias() = vectors * solved.inverse_eigenvalues.asDiagonal();
+    solved.scaled.noalias() = solved.row_scale.asDiagonal() * vectors * solved.inverse_eigenvalues.asDiagonal();
     solved.inertia.resize(rows, rows);
-    solved.inertia.noalias() = solved.scaled * vectors.transpose();
+    solved.inertia.noalias() = solved.scaled * (solved.row_scale.asDiagonal() * vectors).transpose();
+    solved.scaled.noalias() = solved.row_scale.asDiagonal() * vectors * solved.damped_inverse_eigenvalues.asDiagonal();
+    solved.damped_inertia.resize(rows, rows);
+    solved.damped_inertia.noalias() = solved.scaled * (solved.row_scale.asDiagonal() * vectors).transpose();
     // F_k = Λ_k (ẍ*_k − J̇_k u − J_k A⁻¹ Γ_{<k}).
     solved.residual = level.acceleration;
     solved.residual.noalias() -= level.jacobian * udot_tasks_;
     solved.force.resize(rows);
-    solved.force.noalias() = solved.inertia * solved.residual;
+    solved.force.noalias() = solved.damped_inertia * solved.residual;
     udot_tasks_.noalias() += solved.minv_jt * solved.force;
     torques.noalias() += solved.projected.transpose() * solved.force;
   }

@@ -55,6 +55,8 @@ bool SimulateOptions::IsValid(std::string* error) const {
   if (!(controller.kv >= 0) || !std::isfinite(controller.kv)) return fail("--kv must be >= 0, got " + std::to_string(controller.kv));
   const double cutoff = controller.hierarchy.singular_cutoff;
   if (!(cutoff > 0 && cutoff < 1)) return fail("--singular-cutoff must be in (0, 1), got " + std::to_string(cutoff));
+  const double damping = controller.hierarchy.damping;
+  if (!(damping >= 0 && damping < 1)) return fail("--damping must be in [0, 1), got " + std::to_string(damping));
   return true;
 }
 
@@ -63,6 +65,8 @@ nlohmann::json SimulateOptions::ToJson() const {
           {"kp", controller.kp},
           {"kv", controller.kv},
           {"singular_cutoff", controller.hierarchy.singular_cutoff},
+          {"damping", controller.hierarchy.damping},
+          {"no_effort_limits", !controller.effort_limits},
           {"contact", std::string(ContactModeName(contact))},
           {"targets", std::string(TargetSourceName(targets))},
           {"integrator", std::string(IntegratorName(integrator))}};
