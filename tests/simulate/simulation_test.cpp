@@ -53,15 +53,21 @@ TEST(Simulate, KineticEnergyConservedWithoutControlGravityOrContact) {
   std::cout << "relative kinetic-energy drift over 1 s at 1 kHz: rk4 " << rk4 << ", euler " << euler << "\n";
 }
 
-// The paper's mode on a real retargeted CMU walk: joint RMS to the kinematic reference within 3°.
+// The paper's mode on a real retargeted CMU walk. Without torque limits the controller reproduces the
+// kinematic mapping within 3° RMS. With G1's URDF limits it cannot: the kinematic walk itself needs up to
+// 107 N·m at the waist roll and 134 N·m at the waist pitch (their limit: 50), so the torso lags while they
+// clip; the test pins down that this is reported and stays bounded.
 TEST(Simulate, PaperModeReproducesKinematicWalk) {
   const MotionData& walk = DemoMotionOnG1("02_01");
   const Model model = Model::Load(SourcePath(testing::kG1Urdf));
   const RobotMap map = LoadRobotMap(SourcePath(testing::kG1Map));
-  const SimulationResult result = Simulate(walk, "02_01", model, map, SimulateOptions{});
-  std::cout << result.summary.FullReport() << "\n";
+  SimulateOptions unlimited;
+  unlimited.controller.effort_limits = false;
+  const SimulationResult result = Simulate(walk, "02_01", model, map, unlimited);
+  std::cout << "no effort limits: " << result.summary.FullReport() << "\n";
   EXPECT_LE(result.summary.joint_rms_deg, 3.0);
-  EXPECT_LT(result.summary.p1_position_rms_m, 0.01);
+  EXPECT_LT(result.summary.p1_position_rms_m, 0.002);
+  EXPECT_EQ(result.summary.saturated_steps, 0);
   ASSERT_EQ(result.motion.frames(), walk.frames());
   EXPECT_EQ(result.motion.time_s, walk.time_s);
   // The output is the simulation: its first frame is the input's state, and later frames differ.
@@ -71,8 +77,16 @@ TEST(Simulate, PaperModeReproducesKinematicWalk) {
   EXPECT_GT(difference, 0.0);
   // Landmark errors are measured wherever the input had a target.
   for (size_t i = 0; i < walk.landmark_error.size(); ++i) {
-    if (std::isfinite(walk.landmark_error[i])) EXPECT_TRUE(std::isfinite(result.motion.landmark_error[i])) << i;
+    if (std::isfinite(walk.landmark_error[i])) {
+      EXPECT_TRUE(std::isfinite(result.motion.landmark_error[i])) << i;
+    }
   }
+
+  const SimulationResult limited = Simulate(walk, "02_01", model, map, SimulateOptions{});
+  std::cout << "URDF effort limits: " << limited.summary.FullReport() << "\n";
+  EXPECT_GT(limited.summary.saturated_steps, 0);
+  EXPECT_LT(limited.summary.joint_rms_deg, 30.0);
+  for (double tau : limited.motion.tau) ASSERT_TRUE(std::isfinite(tau));
 }
 
 TEST(Simulate, SameInputsGiveIdenticalOutputs) {
