@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "tests/support/demo_motion.h"
 #include "tests/support/run_command.h"
 #include "tests/support/shared_data.h"
 
@@ -69,7 +70,7 @@ TEST_F(MappingPlan, OscRunsSimulateBetweenRetargetAndSegment) {
 TEST_F(MappingPlan, UnknownMappingIsAnErrorAtItsLine) {
   const CommandResult result = plan("[retarget]\nmapping = \"dynamic\"\n");
   EXPECT_EQ(result.exit_code, 1);
-  EXPECT_NE(result.output.find("tiny.toml:6"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("tiny.toml:7"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("mapping must be \"kinematic\" or \"osc\""), std::string::npos) << result.output;
 }
 
