@@ -9,6 +9,7 @@ namespace syn {
 namespace {
 
 constexpr double kDegreesPerRadian = 180.0 / M_PI;
+constexpr double kDivergedVelocity = 1e4;
 
 double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return 2.0 * std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized()))));
@@ -166,7 +167,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       if (step > 0) control(t, static_cast<double>(step) / static_cast<double>(steps));
       integrator.step(workspace, options.integrator, tau, dt, &udot, q, u);
       ++summary.steps;
-      if (!q.allFinite() || !u.allFinite()) {
+      // Any velocity above 10⁴ (rad/s or m/s) is a blown-up step, caught before Simbody sees NaN poses.
+      if (!q.allFinite() || !u.allFinite() || u.cwiseAbs().maxCoeff() > kDivergedVelocity) {
         throw DataError(Location::AtFrame(input_name, t), "the simulation diverged at t = " + std::to_string(input.time_s[static_cast<size_t>(t)] + (step + 1) * dt) + " s");
       }
     }
