@@ -73,6 +73,7 @@ class Model {
   const Eigen::VectorXd& qLower() const;  // [nq], -inf where unlimited (base, continuous joints)
   const Eigen::VectorXd& qUpper() const;  // [nq], +inf where unlimited
   const Eigen::VectorXd& uLimit() const;  // [nu], +inf where the URDF gives none (velocity 0 or absent)
+  const Eigen::VectorXd& effortLimit() const;  // [nu], the URDF's joint effort (N·m or N); +inf where none
   Eigen::VectorXd defaultQ() const;       // identity base orientation, zeros
 
   // Every URDF link, including links merged into their parent by fixed joints.
@@ -140,6 +141,10 @@ class Workspace {
   // udot for applied generalized forces tau, gravity included, no contact:
   // A⁻¹ (tau − b − g), two O(n) operators. Requires setQ and setU.
   void calcForwardDynamics(const Eigen::VectorXd& tau, Eigen::VectorXd& udot);
+  // J̇u for calcFrameJacobian's point: the frame's (angular, linear) acceleration, in ground, when
+  // udot = 0 — the velocity-product term a task-space acceleration needs (Simbody
+  // calcBiasForFrameJacobian, O(n)). Requires setQ and setU.
+  Eigen::Matrix<double, 6, 1> calcFrameBiasAcceleration(int link, const Eigen::Vector3d& point_in_link);
   // Whole-body centre of mass (m) and its velocity. Requires setQ (and setU for the velocity).
   Eigen::Vector3d findCenterOfMass();
 

@@ -209,6 +209,7 @@ Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
   impl->q_lower = Eigen::VectorXd::Constant(impl->nq, -std::numeric_limits<double>::infinity());
   impl->q_upper = Eigen::VectorXd::Constant(impl->nq, std::numeric_limits<double>::infinity());
   impl->u_limit = Eigen::VectorXd::Constant(impl->nu, std::numeric_limits<double>::infinity());
+  impl->effort_limit = Eigen::VectorXd::Constant(impl->nu, std::numeric_limits<double>::infinity());
   if (base == FloatingBase::kFree) {
     const SimTK::MobilizedBody& free = impl->matter.getMobilizedBody(mobilized[0]);
     const int q0 = free.getFirstQIndex(state), u0 = free.getFirstUIndex(state);
@@ -236,6 +237,7 @@ Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
         impl->q_upper[entry.q_index] = joint.upper;
       }
       if (joint.velocity > 0) impl->u_limit[entry.u_index] = joint.velocity;
+      if (joint.effort > 0) impl->effort_limit[entry.u_index] = joint.effort;
     }
     impl->joints.push_back(entry);
   }
@@ -291,6 +293,7 @@ const std::vector<std::string>& Model::velocityNames() const { return impl_->vel
 const Eigen::VectorXd& Model::qLower() const { return impl_->q_lower; }
 const Eigen::VectorXd& Model::qUpper() const { return impl_->q_upper; }
 const Eigen::VectorXd& Model::uLimit() const { return impl_->u_limit; }
+const Eigen::VectorXd& Model::effortLimit() const { return impl_->effort_limit; }
 const std::vector<std::string>& Model::linkNames() const { return impl_->link_names; }
 const std::vector<ModelJoint>& Model::joints() const { return impl_->joints; }
 const std::vector<std::string>& Model::warnings() const { return impl_->warnings; }
@@ -531,6 +534,18 @@ void Workspace::calcForwardDynamics(const Eigen::VectorXd& tau, Eigen::VectorXd&
   for (int i = 0; i < impl.model.nu; ++i) impl.scratch_in[i] = tau[i] - impl.scratch_out[i];
   impl.model.matter.multiplyByMInv(impl.state, impl.scratch_in, impl.scratch_out);
   impl.fromScratch(udot);
+}
+
+Eigen::Matrix<double, 6, 1> Workspace::calcFrameBiasAcceleration(int link, const Eigen::Vector3d& point_in_link) {
+  Impl& impl = *impl_;
+  const LinkPlacement& placement = impl.model.links[static_cast<size_t>(link)];
+  Eigen::Matrix<double, 6, 1> bias = Eigen::Matrix<double, 6, 1>::Zero();
+  if (placement.body == SimTK::GroundIndex) return bias;
+  const Eigen::Vector3d station = placement.in_body * point_in_link;
+  const SimTK::SpatialVec simbody_bias = impl.model.matter.calcBiasForFrameJacobian(
+      impl.state, placement.body, SimTK::Vec3(station.x(), station.y(), station.z()));
+  for (int i = 0; i < 3; ++i) bias[i] = simbody_bias[0][i], bias[3 + i] = simbody_bias[1][i];
+  return bias;
 }
 
 Eigen::Vector3d Workspace::findCenterOfMass() {

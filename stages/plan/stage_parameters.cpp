@@ -50,6 +50,7 @@ StageParameterNames Query(const std::string& bin_dir, const std::string& stage, 
 std::vector<StageParameterNames> QueryStageParameters(const std::string& bin_dir) {
   return {Query(bin_dir, "ingest", {}),
           Query(bin_dir, "retarget", {}),
+          Query(bin_dir, "simulate", {}),
           Query(bin_dir, "segment", {}),
           Query(bin_dir, "synergies", {"subject", "trial", "style", "motion_class"}),
           Query(bin_dir, "evaluate", {}),
