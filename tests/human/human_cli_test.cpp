@@ -59,7 +59,7 @@ TEST_F(HumanCli, BundledWalkCostsTheHumanModelAFewWattsPerKilogram) {
   const std::string bin = testing::BinPath(""), walk = testing::SourcePath("datasets/demo/02_01.bvh");
   const std::string markers = path("walk.markers.h5"), urdf = path("h.urdf"), map = path("h.toml");
   const std::string motion = path("walk.motion.h5"), metrics = path("walk.json");
-  for (const std::string command :
+  for (const std::string& command :
        {bin + "syn-ingest " + walk + " --drop-first-frame -o " + markers,
         bin + "syn-human --height-from-markers " + markers + " --mass 73 -o " + urdf + " --robot-map-out " + map,
         bin + "syn-retarget " + markers + " -o " + motion + " --model " + urdf + " --robot-map " + map +
