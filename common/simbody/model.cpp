@@ -315,8 +315,157 @@ void CopyInto(const Eigen::VectorXd& from, SimTK::Vector& to) {
 // A Free mobilizer's u: angular velocity (0..2), then the origin's linear velocity in ground (3..5).
 constexpr int kFreeBaseVerticalVelocity = 5;
 
+// The tree as plain numbers, for calcMassTimesAt. Each mobilized body (parents before children, as
+// Simbody numbers them) is described in its mobilizer's outboard frame M rather than its body frame B:
+// the children's inboard frames F and the body's mass properties are re-expressed in M once, here, so a
+// pass needs one 3 × 3 product per body. A pin turns M about F's Z, a slider moves it along F's X, so a
+// pin's axis passes through M's origin. Read from the realised system once per Workspace.
+struct MassTimesTree {
+  struct Body {
+    Model::Impl::MobilityKind kind = Model::Impl::MobilityKind::kGround;
+    int parent = 0;  // mobilized body index, 0 = ground
+    int q_index = -1, u_index = -1;
+    Eigen::Matrix3d R_PF = Eigen::Matrix3d::Identity();  // the inboard frame F in the parent's M frame
+    Eigen::Vector3d p_PF = Eigen::Vector3d::Zero();
+    double mass = 0;
+    Eigen::Vector3d com = Eigen::Vector3d::Zero();                // in M
+    Eigen::Matrix3d inertia_about_com = Eigen::Matrix3d::Zero();  // in M
+  };
+  // Per-call scratch, one entry per body (sized once: the pass never allocates).
+  struct Pose {
+    Eigen::Matrix3d R;                  // R_GM
+    Eigen::Vector3d origin;             // M's origin in ground
+    Eigen::Vector3d axis;               // pin or slider axis in ground
+    Eigen::Matrix3d R_GF;               // the free base's inboard frame in ground
+    Eigen::Vector3d angular, linear;    // angular velocity, velocity of M's origin
+    Eigen::Vector3d momentum_angular, momentum_linear;  // of the subtree, about M's origin
+  };
+  std::vector<Body> bodies;  // index 0 = ground
+  std::vector<Pose> poses;
+  Eigen::VectorXd q;         // the normalised configuration
+
+  explicit MassTimesTree(const Model::Impl& model) {
+    SimTK::State state = model.system.getDefaultState();
+    model.system.realize(state, SimTK::Stage::Position);
+    const int count = model.matter.getNumBodies();
+    bodies.resize(static_cast<size_t>(count));
+    poses.resize(static_cast<size_t>(count));
+    q.resize(model.nq);
+    // Each body frame B in its M frame (ground: identity); parents come first, so theirs is known.
+    std::vector<Eigen::Isometry3d> B_in_M(static_cast<size_t>(count), Eigen::Isometry3d::Identity());
+    for (int b = 1; b < count; ++b) {
+      const SimTK::MobilizedBody& mobod = model.matter.getMobilizedBody(SimTK::MobilizedBodyIndex(b));
+      Body& body = bodies[static_cast<size_t>(b)];
+      body.kind = model.mobilities[static_cast<size_t>(b)].kind;
+      body.parent = static_cast<int>(mobod.getParentMobilizedBody().getMobilizedBodyIndex());
+      body.q_index = mobod.getFirstQIndex(state);
+      body.u_index = mobod.getFirstUIndex(state);
+      const Eigen::Isometry3d B_in_own_M = ToEigen(mobod.getOutboardFrame(state)).inverse();
+      B_in_M[static_cast<size_t>(b)] = B_in_own_M;
+      const Eigen::Isometry3d F_in_parent_M = B_in_M[static_cast<size_t>(body.parent)] * ToEigen(mobod.getInboardFrame(state));
+      body.R_PF = F_in_parent_M.linear();
+      body.p_PF = F_in_parent_M.translation();
+      const SimTK::MassProperties& mass = mobod.getBodyMassProperties(state);
+      const SimTK::Vec3 com = mass.getMassCenter();
+      const SimTK::Mat33 inertia = mass.calcCentralInertia().toMat33();  // Simbody's is about B's origin
+      Eigen::Matrix3d inertia_in_B;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) inertia_in_B(i, j) = inertia(i, j);
+      }
+      body.mass = mass.getMass();
+      body.com = B_in_own_M * Eigen::Vector3d(com[0], com[1], com[2]);
+      body.inertia_about_com = B_in_own_M.linear() * inertia_in_B * B_in_own_M.linear().transpose();
+    }
+  }
+
+  void massTimes(bool free_base, const Eigen::VectorXd& q_in, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+    using Kind = Model::Impl::MobilityKind;
+    q = q_in;
+    if (free_base) {
+      const double norm = q.head<4>().norm();
+      if (norm > 0) q.head<4>() /= norm;
+    }
+    Pose& ground = poses[0];
+    ground.R.setIdentity();
+    ground.origin.setZero();
+    ground.angular.setZero();
+    ground.linear.setZero();
+    // Outward: poses, velocities and each body's own momentum.
+    for (size_t b = 1; b < bodies.size(); ++b) {
+      const Body& body = bodies[b];
+      const Pose& parent = poses[static_cast<size_t>(body.parent)];
+      Pose& pose = poses[b];
+      const Eigen::Matrix3d R_GF = parent.R * body.R_PF;
+      pose.origin = parent.origin + parent.R * body.p_PF;
+      pose.angular = parent.angular;
+      pose.linear = parent.linear + parent.angular.cross(pose.origin - parent.origin);
+      switch (body.kind) {
+        case Kind::kPin: {
+          const double c = std::cos(q[body.q_index]), s = std::sin(q[body.q_index]);
+          pose.R.col(0) = c * R_GF.col(0) + s * R_GF.col(1);
+          pose.R.col(1) = c * R_GF.col(1) - s * R_GF.col(0);
+          pose.R.col(2) = R_GF.col(2);
+          pose.axis = R_GF.col(2);
+          pose.angular += pose.axis * v[body.u_index];  // about an axis through M's origin
+          break;
+        }
+        case Kind::kSlider:
+          pose.R = R_GF;
+          pose.axis = R_GF.col(0);
+          pose.origin += pose.axis * q[body.q_index];
+          pose.linear += pose.axis * v[body.u_index];  // the parent's rotation carried the extra offset too
+          pose.linear += parent.angular.cross(pose.axis * q[body.q_index]);
+          break;
+        case Kind::kFree: {
+          // q: M's orientation and origin in F; u: its angular velocity and origin velocity, both in F.
+          const Eigen::Quaterniond rotation(q[body.q_index], q[body.q_index + 1], q[body.q_index + 2], q[body.q_index + 3]);
+          const Eigen::Vector3d offset = R_GF * q.segment<3>(body.q_index + 4);
+          pose.R = R_GF * rotation.toRotationMatrix();
+          pose.R_GF = R_GF;
+          pose.linear += parent.angular.cross(offset) + R_GF * v.segment<3>(body.u_index + 3);
+          pose.origin += offset;
+          pose.angular += R_GF * v.segment<3>(body.u_index);
+          break;
+        }
+        case Kind::kGround:
+          pose.R = R_GF;
+          break;
+      }
+      const Eigen::Vector3d com = pose.R * body.com;
+      pose.momentum_linear = body.mass * (pose.linear + pose.angular.cross(com));
+      pose.momentum_angular = pose.R * (body.inertia_about_com * (pose.R.transpose() * pose.angular)) +
+                              com.cross(pose.momentum_linear);
+    }
+    // Inward: subtree momenta, and each mobility's share of them.
+    for (size_t b = bodies.size() - 1; b >= 1; --b) {
+      const Body& body = bodies[b];
+      const Pose& pose = poses[b];
+      switch (body.kind) {
+        case Kind::kPin:  // the subtree's angular momentum about the joint axis
+          out[body.u_index] = pose.axis.dot(pose.momentum_angular);
+          break;
+        case Kind::kSlider:
+          out[body.u_index] = pose.axis.dot(pose.momentum_linear);
+          break;
+        case Kind::kFree:
+          out.segment<3>(body.u_index) = pose.R_GF.transpose() * pose.momentum_angular;
+          out.segment<3>(body.u_index + 3) = pose.R_GF.transpose() * pose.momentum_linear;
+          break;
+        case Kind::kGround:
+          break;
+      }
+      if (body.parent > 0) {
+        Pose& parent = poses[static_cast<size_t>(body.parent)];
+        parent.momentum_linear += pose.momentum_linear;
+        parent.momentum_angular += pose.momentum_angular + (pose.origin - parent.origin).cross(pose.momentum_linear);
+      }
+    }
+  }
+};
+
 struct Workspace::Impl {
   const Model::Impl& model;
+  MassTimesTree tree;
   SimTK::State state;
   Eigen::VectorXd q, u;
   SimTK::Vector scratch_in, scratch_out, zero_mobility_forces;
@@ -345,6 +494,7 @@ struct Workspace::Impl {
 
   explicit Impl(const Model::Impl& model_in)
       : model(model_in),
+        tree(model_in),
         state(model_in.system.getDefaultState()),
         q(Eigen::VectorXd::Zero(model_in.nq)),
         u(Eigen::VectorXd::Zero(model_in.nu)),
@@ -470,6 +620,11 @@ void Workspace::calcMassTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out) {
   impl_->toScratch(v);
   impl_->model.matter.multiplyByM(impl_->state, impl_->scratch_in, impl_->scratch_out);
   impl_->fromScratch(out);
+}
+
+void Workspace::calcMassTimesAt(const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+  out.resize(impl_->model.nu);
+  impl_->tree.massTimes(model_.hasFreeBase(), q, v, out);
 }
 
 void Workspace::calcMassInverseTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out) {

@@ -64,8 +64,8 @@ nlohmann::json RangeMetrics::ToJson() const {
 }
 
 MotionEvaluator::MotionEvaluator(const Model& model, std::vector<FootPoints> feet, double eval_rate,
-                                 const FootSlidingOptions& sliding)
-    : workspace_(model), feet_(std::move(feet)), eval_rate_(eval_rate), sliding_(sliding),
+                                 const FootSlidingOptions& sliding, MomentumOperator momentum)
+    : workspace_(model), momentum_(momentum), feet_(std::move(feet)), eval_rate_(eval_rate), sliding_(sliding),
       actuated_(model.actuatedVelocities()) {}
 
 std::vector<RangeMetrics> MotionEvaluator::evaluate(const std::vector<double>& time, const std::vector<double>& q,
@@ -100,8 +100,13 @@ std::vector<RangeMetrics> MotionEvaluator::evaluate(const std::vector<double>& t
     const double t = grid_origin + static_cast<double>(k_first + i) / eval_rate_;
     q_spline.evaluate(t, qk.data(), nullptr);
     u_spline.evaluate(t, uk.data(), udot.data());
-    workspace_.setQ(qk);
-    workspace_.calcMassTimes(uk, p);
+    // Inverse dynamics and the feet need the Simbody state at qk; A(q) u alone does not.
+    if (all_metrics || momentum_ == MomentumOperator::kSimbody) workspace_.setQ(qk);
+    if (momentum_ == MomentumOperator::kSimbody) {
+      workspace_.calcMassTimes(uk, p);
+    } else {
+      workspace_.calcMassTimesAt(qk, uk, p);
+    }
     const double kinetic = 0.5 * uk.dot(p);
     double power = RangeMetrics::kNone;
     if (all_metrics) {

@@ -216,6 +216,36 @@ TEST(ModelDynamics, FixedJointMergeCombinesMassProperties) {
   std::filesystem::remove(path);
 }
 
+TEST(ModelDynamics, MassTimesAtAGivenConfigurationEqualsSimbodysMultiplyByM) {
+  // calcMassTimesAt walks the tree itself (syn-evaluate's Monte-Carlo loop); Simbody's multiplyByM after
+  // setQ is the reference. HRP-4C covers prismatic joints and a fixed base, G1 and H1 a free base.
+  std::mt19937 random(23);
+  for (const char* robot : kRobots) {
+    SYN_REQUIRE_SHARED(robot);
+    SCOPED_TRACE(robot);
+    const Model model = Model::Load(testing::SharedPath(robot));
+    Workspace workspace(model), reference(model);
+    workspace.setQ(RandomConfiguration(model, random));
+    const Eigen::VectorXd before = workspace.getQ();
+    Eigen::VectorXd fast, simbody;
+    for (int trial = 0; trial < 20; ++trial) {
+      Eigen::VectorXd q = RandomConfiguration(model, random);
+      if (model.hasFreeBase()) {
+        q.segment<3>(4) *= 5.0;                    // metres away from the origin, as a long walk gets
+        if (trial % 2) q.head<4>() *= 1.3;         // an unnormalised quaternion is normalised, as setQ does
+      }
+      const Eigen::VectorXd v = RandomVector(model.nu(), random);
+      workspace.calcMassTimesAt(q, v, fast);
+      reference.setQ(q);
+      reference.calcMassTimes(v, simbody);
+      ASSERT_EQ(fast.size(), model.nu());
+      EXPECT_LT((fast - simbody).cwiseAbs().maxCoeff(), 1e-12 * std::max(1.0, simbody.cwiseAbs().maxCoeff()))
+          << "trial " << trial;
+    }
+    EXPECT_TRUE(workspace.getQ() == before) << "calcMassTimesAt must leave the workspace's configuration alone";
+  }
+}
+
 }  // namespace
 }  // namespace syn
 
