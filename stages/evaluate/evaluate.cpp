@@ -106,8 +106,32 @@ nlohmann::json EvaluateMotion(const MotionData& motion, const Model& model, cons
                         motion.time_s[static_cast<size_t>(segment.end_frame - 1)]});
     }
   }
+  const bool heading_frame = model.hasFreeBase();
+  const bool monte_carlo = synergies && all_velocities && options.monte_carlo.samples >= 0;
   RangeMetrics whole;
-  const std::vector<RangeMetrics> stored = evaluator.evaluate(motion.time_s, motion.q, motion.u, ranges, origin, &whole);
+  std::vector<RangeMetrics> stored;
+  auto evaluate_stored = [&](MotionEvaluator& on) {
+    stored = on.evaluate(motion.time_s, motion.q, motion.u, ranges, origin, &whole);
+  };
+  std::vector<MonteCarloSummary> summaries;
+  if (monte_carlo) {
+    std::vector<MonteCarloSegment> inputs;
+    for (size_t s = 0; s < synergies->segments.size(); ++s) {
+      const TrialSynergies::Segment& segment = synergies->segments[s];
+      inputs.push_back({&segment,
+                        std::vector<double>(motion.time_s.begin() + segment.start_frame,
+                                            motion.time_s.begin() + segment.end_frame),
+                        static_cast<int64_t>(s)});
+    }
+    // One evaluator per thread; the trial's own metrics run as one more task beside the reconstructions.
+    const int threads = options.threads > 0 ? options.threads : DefaultThreadCount();
+    std::vector<MotionEvaluator> evaluators;
+    evaluators.push_back(std::move(evaluator));
+    for (int t = 1; t < threads; ++t) evaluators.emplace_back(model, feet, options.eval_rate, options.sliding, options.momentum);
+    summaries = RunMonteCarlo(evaluators, inputs, heading_frame, origin, options.monte_carlo, evaluate_stored);
+  } else {
+    evaluate_stored(evaluator);
+  }
 
   nlohmann::json result;
   result["schema"] = kMetricsSchema;
@@ -130,25 +154,6 @@ nlohmann::json EvaluateMotion(const MotionData& motion, const Model& model, cons
   result["segments"] = nlohmann::json::array();
   if (!synergies) return result;
 
-  const bool heading_frame = model.hasFreeBase();
-  const bool monte_carlo = all_velocities && options.monte_carlo.samples >= 0;
-  std::vector<MonteCarloSummary> summaries;
-  if (monte_carlo) {
-    std::vector<MonteCarloSegment> inputs;
-    for (size_t s = 0; s < synergies->segments.size(); ++s) {
-      const TrialSynergies::Segment& segment = synergies->segments[s];
-      inputs.push_back({&segment,
-                        std::vector<double>(motion.time_s.begin() + segment.start_frame,
-                                            motion.time_s.begin() + segment.end_frame),
-                        static_cast<int64_t>(s)});
-    }
-    // One evaluator per thread: the trial's own serves as the first.
-    const int threads = options.threads > 0 ? options.threads : DefaultThreadCount();
-    std::vector<MotionEvaluator> evaluators;
-    evaluators.push_back(std::move(evaluator));
-    for (int t = 1; t < threads; ++t) evaluators.emplace_back(model, feet, options.eval_rate, options.sliding, options.momentum);
-    summaries = RunMonteCarlo(evaluators, inputs, heading_frame, origin, options.monte_carlo);
-  }
   std::vector<double> dp_change, dke_change, dp_rank_k, dke_rank_k;
   for (size_t s = 0; s < synergies->segments.size(); ++s) {
     const TrialSynergies::Segment& segment = synergies->segments[s];

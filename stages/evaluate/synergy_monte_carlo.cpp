@@ -55,7 +55,8 @@ RangeMetrics EvaluateReconstruction(MotionEvaluator& evaluator, const Eigen::Vec
 
 std::vector<MonteCarloSummary> RunMonteCarlo(std::span<MotionEvaluator> evaluators,
                                              const std::vector<MonteCarloSegment>& segments, bool heading_frame,
-                                             double grid_origin, const MonteCarloOptions& options) {
+                                             double grid_origin, const MonteCarloOptions& options,
+                                             const std::function<void(MotionEvaluator&)>& alongside) {
   // Each segment's tasks: the original (task 0), rank k (1), then the perturbed samples, with their
   // coefficients drawn here, in order, before anything runs.
   const int64_t per_segment = 2 + static_cast<int64_t>(std::max(0, options.samples));
@@ -75,8 +76,14 @@ std::vector<MonteCarloSummary> RunMonteCarlo(std::span<MotionEvaluator> evaluato
       coefficients[s].push_back(std::move(sample));
     }
   }
-  RunTasks(per_segment * static_cast<int64_t>(segments.size()), static_cast<int>(evaluators.size()),
+  const int64_t first = alongside ? 1 : 0;
+  RunTasks(first + per_segment * static_cast<int64_t>(segments.size()), static_cast<int>(evaluators.size()),
            [&](int worker, int64_t task) {
+             if (task < first) {
+               alongside(evaluators[static_cast<size_t>(worker)]);
+               return;
+             }
+             task -= first;
              const size_t s = static_cast<size_t>(task / per_segment);
              const int64_t which = task % per_segment;
              const TrialSynergies::Segment& segment = *segments[s].segment;

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -55,10 +56,12 @@ struct MonteCarloSegment {
 // Every segment's original, rank-k and perturbed reconstructions, spread over `evaluators` (one thread
 // each; all on the same model and options). `heading_frame`: the segments' base velocities are in the
 // pelvis heading frame (synergies of all velocities on a free base). One summary per segment, in order.
-[[nodiscard]] std::vector<MonteCarloSummary> RunMonteCarlo(std::span<MotionEvaluator> evaluators,
-                                                           const std::vector<MonteCarloSegment>& segments,
-                                                           bool heading_frame, double grid_origin,
-                                                           const MonteCarloOptions& options);
+// `alongside`, when given, runs first as one more task on one of the evaluators (syn-evaluate's whole-trial
+// metrics), so it overlaps the reconstructions instead of preceding them.
+[[nodiscard]] std::vector<MonteCarloSummary> RunMonteCarlo(
+    std::span<MotionEvaluator> evaluators, const std::vector<MonteCarloSegment>& segments, bool heading_frame,
+    double grid_origin, const MonteCarloOptions& options,
+    const std::function<void(MotionEvaluator&)>& alongside = nullptr);
 
 // One segment on one thread. `times`: the motion's frame times of the segment [start_frame, end_frame).
 [[nodiscard]] MonteCarloSummary RunSegmentMonteCarlo(MotionEvaluator& evaluator, const TrialSynergies::Segment& segment,
