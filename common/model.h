@@ -133,6 +133,12 @@ class Workspace {
   // holds. For loops that need nothing but A(q) v, such as syn-evaluate's Monte-Carlo reconstructions;
   // the model tests hold it to calcMassTimes.
   void calcMassTimesAt(const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& out);
+  // The same pass with accelerations: momentum = A(q) u and tau = A(q) udot + b(q, u) + g(q), as
+  // calcMassTimes and calcInverseDynamics give them after setQ and setU, without realising (or changing)
+  // the Simbody state. Link poses at q then come from findLinkPoseAtLastDynamics.
+  void calcDynamicsAt(const Eigen::VectorXd& q, const Eigen::VectorXd& u, const Eigen::VectorXd& udot,
+                      Eigen::VectorXd& momentum, Eigen::VectorXd& tau);
+  Eigen::Isometry3d findLinkPoseAtLastDynamics(int link) const;
   // out = A(q)⁻¹ v in O(n) (multiplyByMInv). Requires setQ.
   void calcMassInverseTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out);
   // Generalized momentum p = A(q) u. Requires setQ and setU.

@@ -339,9 +339,13 @@ struct MassTimesTree {
     Eigen::Matrix3d R_GF;               // the free base's inboard frame in ground
     Eigen::Vector3d angular, linear;    // angular velocity, velocity of M's origin
     Eigen::Vector3d momentum_angular, momentum_linear;  // of the subtree, about M's origin
+    Eigen::Vector3d alpha, acceleration;  // angular acceleration, acceleration of M's origin (gravity: ground up)
+    Eigen::Vector3d moment, force;        // inverse dynamics: of the subtree, about M's origin
   };
   std::vector<Body> bodies;  // index 0 = ground
   std::vector<Pose> poses;
+  std::vector<int> link_body;                  // per URDF link: its mobilized body (0 = ground)
+  std::vector<Eigen::Isometry3d> link_in_M;    // per URDF link: the link frame in that body's M frame
   Eigen::VectorXd q;         // the normalised configuration
 
   explicit MassTimesTree(const Model::Impl& model) {
@@ -376,6 +380,136 @@ struct MassTimesTree {
       body.com = B_in_own_M * Eigen::Vector3d(com[0], com[1], com[2]);
       body.inertia_about_com = B_in_own_M.linear() * inertia_in_B * B_in_own_M.linear().transpose();
     }
+    for (const LinkPlacement& link : model.links) {
+      link_body.push_back(static_cast<int>(link.body));
+      link_in_M.push_back(B_in_M[static_cast<size_t>(static_cast<int>(link.body))] * link.in_body);
+    }
+  }
+
+  // p = A(q) u and tau = A(q) udot + b(q, u) + g(q) (Workspace::calcInverseDynamics) in one outward and one
+  // inward pass; the poses stay for linkPose(). Gravity enters as the ground accelerating upward by g.
+  void dynamics(bool free_base, double gravity, const Eigen::VectorXd& q_in, const Eigen::VectorXd& u,
+                const Eigen::VectorXd& udot, Eigen::VectorXd& momentum, Eigen::VectorXd& tau) {
+    using Kind = Model::Impl::MobilityKind;
+    q = q_in;
+    if (free_base) {
+      const double norm = q.head<4>().norm();
+      if (norm > 0) q.head<4>() /= norm;
+    }
+    Pose& ground = poses[0];
+    ground.R.setIdentity();
+    ground.origin.setZero();
+    ground.angular.setZero();
+    ground.linear.setZero();
+    ground.alpha.setZero();
+    ground.acceleration = Eigen::Vector3d(0, 0, gravity);
+    for (size_t b = 1; b < bodies.size(); ++b) {
+      const Body& body = bodies[b];
+      const Pose& parent = poses[static_cast<size_t>(body.parent)];
+      Pose& pose = poses[b];
+      const Eigen::Matrix3d R_GF = parent.R * body.R_PF;
+      pose.origin = parent.origin + parent.R * body.p_PF;
+      const Eigen::Vector3d arm = pose.origin - parent.origin;
+      pose.angular = parent.angular;
+      pose.linear = parent.linear + parent.angular.cross(arm);
+      pose.alpha = parent.alpha;
+      pose.acceleration = parent.acceleration + parent.alpha.cross(arm) + parent.angular.cross(parent.angular.cross(arm));
+      // The mobility's own motion relative to the parent: an offset of M's origin, its velocity and
+      // acceleration, and a relative angular velocity and acceleration, all in ground.
+      Eigen::Vector3d offset = Eigen::Vector3d::Zero(), velocity = Eigen::Vector3d::Zero();
+      Eigen::Vector3d acceleration = Eigen::Vector3d::Zero(), spin = Eigen::Vector3d::Zero();
+      Eigen::Vector3d spin_rate = Eigen::Vector3d::Zero();
+      switch (body.kind) {
+        case Kind::kPin: {
+          const double c = std::cos(q[body.q_index]), s = std::sin(q[body.q_index]);
+          pose.R.col(0) = c * R_GF.col(0) + s * R_GF.col(1);
+          pose.R.col(1) = c * R_GF.col(1) - s * R_GF.col(0);
+          pose.R.col(2) = R_GF.col(2);
+          pose.axis = R_GF.col(2);
+          spin = pose.axis * u[body.u_index];
+          spin_rate = pose.axis * udot[body.u_index];
+          break;
+        }
+        case Kind::kSlider:
+          pose.R = R_GF;
+          pose.axis = R_GF.col(0);
+          offset = pose.axis * q[body.q_index];
+          velocity = pose.axis * u[body.u_index];
+          acceleration = pose.axis * udot[body.u_index];
+          break;
+        case Kind::kFree: {
+          const Eigen::Quaterniond rotation(q[body.q_index], q[body.q_index + 1], q[body.q_index + 2], q[body.q_index + 3]);
+          pose.R = R_GF * rotation.toRotationMatrix();
+          pose.R_GF = R_GF;
+          offset = R_GF * q.segment<3>(body.q_index + 4);
+          spin = R_GF * u.segment<3>(body.u_index);
+          velocity = R_GF * u.segment<3>(body.u_index + 3);
+          spin_rate = R_GF * udot.segment<3>(body.u_index);
+          acceleration = R_GF * udot.segment<3>(body.u_index + 3);
+          break;
+        }
+        case Kind::kGround:
+          pose.R = R_GF;
+          break;
+      }
+      // d/dt of a vector fixed in the parent: parent.angular × it.
+      pose.origin += offset;
+      pose.linear += parent.angular.cross(offset) + velocity;
+      pose.acceleration += parent.alpha.cross(offset) + parent.angular.cross(parent.angular.cross(offset)) +
+                           2.0 * parent.angular.cross(velocity) + acceleration;
+      pose.angular += spin;
+      pose.alpha += parent.angular.cross(spin) + spin_rate;
+
+      const Eigen::Vector3d com = pose.R * body.com;
+      const Eigen::Vector3d spin_in_M = pose.R.transpose() * pose.angular;
+      const Eigen::Vector3d inertia_spin = pose.R * (body.inertia_about_com * spin_in_M);
+      const Eigen::Vector3d inertia_alpha = pose.R * (body.inertia_about_com * (pose.R.transpose() * pose.alpha));
+      pose.momentum_linear = body.mass * (pose.linear + pose.angular.cross(com));
+      pose.momentum_angular = inertia_spin + com.cross(pose.momentum_linear);
+      const Eigen::Vector3d com_acceleration =
+          pose.acceleration + pose.alpha.cross(com) + pose.angular.cross(pose.angular.cross(com));
+      pose.force = body.mass * com_acceleration;
+      pose.moment = inertia_alpha + pose.angular.cross(inertia_spin) + com.cross(pose.force);
+    }
+    for (size_t b = bodies.size() - 1; b >= 1; --b) {
+      const Body& body = bodies[b];
+      const Pose& pose = poses[b];
+      switch (body.kind) {
+        case Kind::kPin:
+          momentum[body.u_index] = pose.axis.dot(pose.momentum_angular);
+          tau[body.u_index] = pose.axis.dot(pose.moment);
+          break;
+        case Kind::kSlider:
+          momentum[body.u_index] = pose.axis.dot(pose.momentum_linear);
+          tau[body.u_index] = pose.axis.dot(pose.force);
+          break;
+        case Kind::kFree:
+          momentum.segment<3>(body.u_index) = pose.R_GF.transpose() * pose.momentum_angular;
+          momentum.segment<3>(body.u_index + 3) = pose.R_GF.transpose() * pose.momentum_linear;
+          tau.segment<3>(body.u_index) = pose.R_GF.transpose() * pose.moment;
+          tau.segment<3>(body.u_index + 3) = pose.R_GF.transpose() * pose.force;
+          break;
+        case Kind::kGround:
+          break;
+      }
+      if (body.parent > 0) {
+        Pose& parent = poses[static_cast<size_t>(body.parent)];
+        const Eigen::Vector3d arm = pose.origin - parent.origin;
+        parent.momentum_linear += pose.momentum_linear;
+        parent.momentum_angular += pose.momentum_angular + arm.cross(pose.momentum_linear);
+        parent.force += pose.force;
+        parent.moment += pose.moment + arm.cross(pose.force);
+      }
+    }
+  }
+
+  // A URDF link's world pose at the configuration of the last dynamics() call.
+  Eigen::Isometry3d linkPose(int link) const {
+    const Pose& pose = poses[static_cast<size_t>(link_body[static_cast<size_t>(link)])];
+    Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
+    body.linear() = pose.R;
+    body.translation() = pose.origin;
+    return body * link_in_M[static_cast<size_t>(link)];
   }
 
   void massTimes(bool free_base, const Eigen::VectorXd& q_in, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
@@ -626,6 +760,15 @@ void Workspace::calcMassTimesAt(const Eigen::VectorXd& q, const Eigen::VectorXd&
   out.resize(impl_->model.nu);
   impl_->tree.massTimes(model_.hasFreeBase(), q, v, out);
 }
+
+void Workspace::calcDynamicsAt(const Eigen::VectorXd& q, const Eigen::VectorXd& u, const Eigen::VectorXd& udot,
+                               Eigen::VectorXd& momentum, Eigen::VectorXd& tau) {
+  momentum.resize(impl_->model.nu);
+  tau.resize(impl_->model.nu);
+  impl_->tree.dynamics(model_.hasFreeBase(), impl_->model.gravity, q, u, udot, momentum, tau);
+}
+
+Eigen::Isometry3d Workspace::findLinkPoseAtLastDynamics(int link) const { return impl_->tree.linkPose(link); }
 
 void Workspace::calcMassInverseTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out) {
   impl_->toScratch(v);

@@ -49,11 +49,13 @@ struct RangeMetrics {
   nlohmann::json ToJson() const;
 };
 
-// How p = A(q) u is computed at each grid point. Both give the same numbers to rounding (the model tests
+// How p = A(q) u, the inverse dynamics and the foot poses are computed at each grid point. Both give the same numbers to rounding (the model tests
 // hold them to 1e-12, the evaluate tests the metrics of real trials to 1e-9); kTree is several times faster.
 enum class MomentumOperator {
-  kTree,     // Workspace::calcMassTimesAt: one recursive pass over the tree, no Simbody realisation
-  kSimbody,  // Workspace::setQ + calcMassTimes (Simbody's multiplyByM): the straightforward reference path
+  kTree,     // Workspace::calcMassTimesAt (and calcDynamicsAt where power and feet are needed): recursive
+             // passes over the tree, no Simbody realisation
+  kSimbody,  // Workspace::setQ, calcMassTimes (Simbody's multiplyByM), setU, calcInverseDynamics and
+             // findLinkPose: the straightforward reference path
 };
 
 class MotionEvaluator {
