@@ -1,5 +1,5 @@
-// syn-evaluate's fast path (A(q) u by Workspace::calcMassTimesAt, reconstructions spread over threads)
-// against the straightforward reference path (Simbody's setQ + multiplyByM at every grid point, one
+// syn-evaluate's fast path (Workspace::calcMassTimesAt / calcDynamicsAt, reconstructions over threads)
+// against the straightforward reference path (Simbody's setQ, multiplyByM, inverse dynamics, one
 // thread), on real trials at the paper's protocol: 1 kHz grid, same seeds.
 #include <gtest/gtest.h>
 
