@@ -7,7 +7,7 @@
 #   make release MANIFEST=manifests/X.toml   a deterministic tar of the archive's results
 #   make compose SCRIPT=manifests/scripts/X.toml [LIBRARY=outputs/demo/library.h5]   a scripted motion,
 #                         evaluated and exported (outputs/compose/X.*)
-#   make bench-archive [ARCHIVE_HOURS=3 ARCHIVE_SUBJECTS=20]   generate a large archive from the CMU trials
+#   make bench-archive [ARCHIVE_HOURS=3 ARCHIVE_SUBJECTS=20 ARCHIVE_PROTOCOL=paper|throughput]   generate a large archive from the CMU trials
 #                         and run the whole pipeline on it: wall time and frames/s per stage
 #   make report [MANIFEST=manifests/X.toml]   the archive's offline HTML report: the paper's figures, per-trial
 #                         plots and a 3-D player (outputs/NAME/report/index.html); redraws only what changed
@@ -162,10 +162,11 @@ demo:
 CMU_BVH ?= ../shared/datasets/cmu_bvh
 ARCHIVE_HOURS ?= 3
 ARCHIVE_SUBJECTS ?= 20
+ARCHIVE_PROTOCOL ?= paper
 bench-archive: build check-cluster
 	@gen=$(OUTPUTS)/archive-captures; start=$$(date +%s.%N); \
 	$(BIN)/syn-archive $(CMU_BVH)/*/*.bvh --index $(CMU_BVH)/index.csv --subjects $(ARCHIVE_SUBJECTS) \
-	  --hours $(ARCHIVE_HOURS) -o $$gen 2>&1 | grep -v skipped; \
+	  --hours $(ARCHIVE_HOURS) --protocol $(ARCHIVE_PROTOCOL) -o $$gen 2>&1 | grep -v skipped; \
 	generated=$$(date +%s.%N); \
 	$(BIN)/syn-plan $$gen/archive.toml -o $(OUTPUTS)/archive/rules.mk --outputs $(OUTPUTS) && \
 	$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/archive/rules.mk $(LAUNCHER_RULES) SYN_BIN=$(BIN) all > $(OUTPUTS)/archive/progress.log || exit 1; \

@@ -127,6 +127,20 @@ class Workspace {
   // out = A(q) v, the mass matrix times a vector, in O(n) (Simbody
   // multiplyByM; A is never formed). Requires setQ.
   void calcMassTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out);
+  // out = A(q) v at the configuration q given here (a free base's quaternion is normalised, as setQ does),
+  // by one O(n) recursive pass — body poses, then composite momenta from the leaves to the root — that
+  // neither realises nor changes the Simbody state (getQ() stays). The same product as setQ(q) followed
+  // by calcMassTimes(v), to rounding, in about a tenth of the time: Debian's Simbody is built with its
+  // run-time checks on (see DESIGN.md, Toolchain facts), and setQ realises everything a position stage
+  // holds. For loops that need nothing but A(q) v, such as syn-evaluate's Monte-Carlo reconstructions;
+  // the model tests hold it to calcMassTimes.
+  void calcMassTimesAt(const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& out);
+  // The same pass with accelerations: momentum = A(q) u and tau = A(q) udot + b(q, u) + g(q), as
+  // calcMassTimes and calcInverseDynamics give them after setQ and setU, without realising (or changing)
+  // the Simbody state. Link poses at q then come from findLinkPoseAtLastDynamics.
+  void calcDynamicsAt(const Eigen::VectorXd& q, const Eigen::VectorXd& u, const Eigen::VectorXd& udot,
+                      Eigen::VectorXd& momentum, Eigen::VectorXd& tau);
+  Eigen::Isometry3d findLinkPoseAtLastDynamics(int link) const;
   // out = A(q)⁻¹ v in O(n) (multiplyByMInv). Requires setQ.
   void calcMassInverseTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out);
   // Generalized momentum p = A(q) u. Requires setQ and setU.
