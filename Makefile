@@ -9,7 +9,7 @@
 #                         evaluated and exported (outputs/compose/X.*)
 #   make studio [LIBRARY=outputs/demo/library.h5 SCRIPT=... PORT=8080]   the SynSculptor studio: compose from
 #                         the library in the browser (http://127.0.0.1:8080/), load and save compose scripts
-#   make bench-archive [ARCHIVE_HOURS=3 ARCHIVE_SUBJECTS=20]   generate a large archive from the CMU trials
+#   make bench-archive [ARCHIVE_HOURS=3 ARCHIVE_SUBJECTS=20 ARCHIVE_PROTOCOL=paper|throughput]   generate a large archive from the CMU trials
 #                         and run the whole pipeline on it: wall time and frames/s per stage
 #   make report [MANIFEST=manifests/X.toml]   the archive's offline HTML report: the paper's figures, per-trial
 #                         plots and a 3-D player (outputs/NAME/report/index.html); redraws only what changed
@@ -105,7 +105,8 @@ fuzz-smoke: setup-fuzz
 	@set -o pipefail; for fuzzer in $$(ls build-fuzz/bin/*_fuzzer 2>/dev/null); do \
 	  name=$$(basename $$fuzzer); corpus=build-fuzz/corpus/$$name; mkdir -p $$corpus; \
 	  echo "== $$name: $(FUZZ_SECONDS) s"; \
-	  $$fuzzer -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1 \
+	  dict=tests/fuzz/$${name%_fuzzer}.dict; dict_flag=; [ -f $$dict ] && dict_flag=-dict=$$dict; \
+	  $$fuzzer -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1 $$dict_flag \
 	    -artifact_prefix=build-fuzz/ $$corpus tests/fuzz/seeds/$${name%_fuzzer} 2>&1 | tail -n 12 || exit 1; \
 	done
 
@@ -164,10 +165,11 @@ demo:
 CMU_BVH ?= ../shared/datasets/cmu_bvh
 ARCHIVE_HOURS ?= 3
 ARCHIVE_SUBJECTS ?= 20
+ARCHIVE_PROTOCOL ?= paper
 bench-archive: build check-cluster
 	@gen=$(OUTPUTS)/archive-captures; start=$$(date +%s.%N); \
 	$(BIN)/syn-archive $(CMU_BVH)/*/*.bvh --index $(CMU_BVH)/index.csv --subjects $(ARCHIVE_SUBJECTS) \
-	  --hours $(ARCHIVE_HOURS) -o $$gen 2>&1 | grep -v skipped; \
+	  --hours $(ARCHIVE_HOURS) --protocol $(ARCHIVE_PROTOCOL) -o $$gen 2>&1 | grep -v skipped; \
 	generated=$$(date +%s.%N); \
 	$(BIN)/syn-plan $$gen/archive.toml -o $(OUTPUTS)/archive/rules.mk --outputs $(OUTPUTS) && \
 	$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/archive/rules.mk $(LAUNCHER_RULES) SYN_BIN=$(BIN) all > $(OUTPUTS)/archive/progress.log || exit 1; \
@@ -225,33 +227,76 @@ project: build
 	done; cat $$out/summary.txt; echo "make: before/after table in $$out/summary.txt (metrics: syn-evaluate)"
 
 # ---- human vs robot power ----------------------------------------------------------------
-# Every trial of MANIFEST (its markers from `make run`) retargeted onto the paper's HRP-4C model and onto
-# its human model (the same tree with human masses), both evaluated alike: mean mechanical power in W/kg
-# and HRP-4C / human per trial (outputs/NAME/power-ratio/power_ratio.csv), then per motion class. The
-# paper (OpenSim's muscle model for the human) reports humans 3.3x more efficient. Both URDFs as published
-# give every link a placeholder inertia of 1 kg m^2 (the real values are commented out), which dominates
-# the torques, so their ratio comes out near the mass ratio; point HUMANOID_SYNERGIES at corrected models.
+# Every trial of MANIFEST (its markers from `make run`) retargeted onto a human model and onto each robot of
+# POWER_ROBOTS (hrp4c: the paper's HRP-4C; g1: Unitree G1), all with the same syn-retarget and syn-evaluate
+# flags: mean mechanical power sum_actuated |tau u| / total mass (W/kg; a free base's six velocities are not
+# motors and do not count) per trial and robot in outputs/NAME/power-ratio/power_ratio.csv, then per motion
+# class: trials, human W/kg, each robot's W/kg and robot/human (ratio of the class means). On walks, the
+# human's hip / knee / ankle share of sagittal leg joint power beside the published shares. The paper
+# (OpenSim's muscle model for the human) reports humans 3.3x more efficient than HRP-4C.
+# HUMAN_MODEL=deleva (default): syn-human's de Leva (1996) model for the manifest's [human] height, mass and
+#   sex; without a height, each trial's own (syn-human --height-from-markers on its markers); without a
+#   mass or sex, de Leva's reference male (73.0 kg) with a warning in the trial's human log.
+# HUMAN_MODEL=paper: the paper's human URDF (HUMANOID_SYNERGIES), the HRP-4C tree with placeholder inertias
+#   of 1 kg m^2 on every link: they dominate its torques (syn-retarget warns), so its W/kg are not a human's.
+HUMAN_MODEL ?= deleva
+POWER_ROBOTS ?= hrp4c g1
 HUMANOID_SYNERGIES ?= ../shared/datasets/robots/humanoid_synergies
+# A key of the manifest's [human] table, or nothing.
+human_param = $(shell awk -v key=$(1) '/^\[/ {section = $$0} section == "[human]" {line = $$0; sub(/\#.*/, "", line); \
+  n = split(line, kv, "="); gsub(/[ \t"]/, "", kv[1]); gsub(/[ \t"]/, "", kv[2]); if (n == 2 && kv[1] == key) print kv[2]}' $(MANIFEST))
+HUMAN_FLAGS = $(foreach key,height mass sex,$(if $(call human_param,$(key)),--$(key) $(call human_param,$(key))))
 power-ratio: run
-	@if [ ! -f $(HUMANOID_SYNERGIES)/human_optitrack_model.urdf ]; then \
-	  echo "make: power-ratio needs the paper's models in $(HUMANOID_SYNERGIES) (HUMANOID_SYNERGIES=...)"; exit 1; fi
+	@if [ "$(HUMAN_MODEL)" = paper ] || echo " $(POWER_ROBOTS) " | grep -q ' hrp4c '; then \
+	  if [ ! -f $(HUMANOID_SYNERGIES)/HRP4c_optitrack_model.urdf ]; then \
+	    echo "make: power-ratio needs the paper's models in $(HUMANOID_SYNERGIES) (HUMANOID_SYNERGIES=...)"; exit 1; fi; fi
 	@out=$(OUTPUTS)/$(MANIFEST_NAME)/power-ratio; mkdir -p $$out; \
-	markerset=$$(sed -n 's/^markerset *= *"\(.*\)".*/\1/p' $(MANIFEST) | head -n 1); synergies=; robot=; human=; \
-	for trial in $(OUTPUTS)/$(MANIFEST_NAME)/trials/*/; do id=$$(basename $$trial); \
-	  for body in HRP4c human; do model=$(HUMANOID_SYNERGIES)/$${body}_optitrack_model.urdf; log=$$out/$$id.$$body.log; \
-	    $(BIN)/syn-retarget $$trial/markers.h5 -o $$out/$$id.$$body.motion.h5 --model $$model \
-	      --robot-map manifests/robots/hrp4c.toml --markerset $$markerset 2> $$log && \
-	    $(BIN)/syn-evaluate $$out/$$id.$$body.motion.h5 --model $$model --robot-map manifests/robots/hrp4c.toml \
+	markerset=$$(sed -n 's/^markerset *= *"\(.*\)".*/\1/p' $(MANIFEST) | head -n 1); \
+	case "$(HUMAN_MODEL)" in \
+	  deleva) ;; \
+	  paper) echo "make: HUMAN_MODEL=paper: placeholder inertias (1 kg m^2 per link) dominate that model's torques";; \
+	  *) echo "make: HUMAN_MODEL must be deleva or paper"; exit 2;; \
+	esac; \
+	synergies=; for trial in $(OUTPUTS)/$(MANIFEST_NAME)/trials/*/; do synergies="$$synergies $$trial/synergies.h5"; done; \
+	for body in human $(POWER_ROBOTS); do \
+	  case $$body in \
+	    human) ;; \
+	    hrp4c) model=$(HUMANOID_SYNERGIES)/HRP4c_optitrack_model.urdf; map=manifests/robots/hrp4c.toml;; \
+	    g1) model=datasets/robots/unitree_g1/g1_29dof.urdf; map=manifests/robots/g1.toml;; \
+	    *) echo "make: unknown robot '$$body' in POWER_ROBOTS (hrp4c, g1)"; exit 2;; \
+	  esac; metrics=; \
+	  for trial in $(OUTPUTS)/$(MANIFEST_NAME)/trials/*/; do id=$$(basename $$trial); log=$$out/$$id.$$body.log; : > $$log; \
+	    if [ $$body = human ] && [ "$(HUMAN_MODEL)" = paper ]; then \
+	      model=$(HUMANOID_SYNERGIES)/human_optitrack_model.urdf; map=manifests/robots/hrp4c.toml; \
+	    elif [ $$body = human ]; then model=$$out/$$id.human.urdf; map=$$out/$$id.human.toml; \
+	      $(BIN)/syn-human $(HUMAN_FLAGS) $(if $(call human_param,height),,--height-from-markers $$trial/markers.h5) \
+	        -o $$model --robot-map-out $$map 2>> $$log || { cat $$log; exit 1; }; \
+	    fi; \
+	    $(BIN)/syn-retarget $$trial/markers.h5 -o $$out/$$id.$$body.motion.h5 --model $$model --robot-map $$map \
+	      --markerset $$markerset 2>> $$log && \
+	    $(BIN)/syn-evaluate $$out/$$id.$$body.motion.h5 --model $$model --robot-map $$map \
 	      -o $$out/$$id.$$body.metrics.json 2>> $$log || { cat $$log; exit 1; }; \
+	    metrics="$$metrics $$out/$$id.$$body.metrics.json"; \
 	  done; \
-	  synergies="$$synergies $$trial/synergies.h5"; robot="$$robot $$out/$$id.HRP4c.metrics.json"; \
-	  human="$$human $$out/$$id.human.metrics.json"; \
+	  if [ $$body = human ]; then human=$$metrics; continue; fi; \
+	  $(BIN)/syn-summary $$synergies --table power-ratio --robot-name $$body --metrics $$metrics --human-metrics $$human \
+	    -o $$out/power_ratio.$$body.csv 2> $$out/summary.log || { cat $$out/summary.log; exit 1; }; \
 	done; \
-	$(BIN)/syn-summary $$synergies --table power-ratio --metrics $$robot --human-metrics $$human \
-	  -o $$out/power_ratio.csv 2> $$out/summary.log || { cat $$out/summary.log; exit 1; }; \
-	awk -F, 'NR > 1 {n[$$3]++; human[$$3] += $$4; robot[$$3] += $$5; ratio[$$3] += $$6} \
-	  END {for (c in n) printf "  %-16s %3d trials  human %6.2f W/kg  HRP-4C %6.2f W/kg  HRP-4C/human %5.2f\n", \
-	    c, n[c], human[c] / n[c], robot[c] / n[c], ratio[c] / n[c]}' $$out/power_ratio.csv | sort; \
+	set -- $(POWER_ROBOTS); { head -n 1 $$out/power_ratio.$$1.csv; \
+	  for body in $(POWER_ROBOTS); do tail -n +2 $$out/power_ratio.$$body.csv; done; } > $$out/power_ratio.csv; \
+	awk -F, -v robots="$(POWER_ROBOTS)" -v human_model="$(HUMAN_MODEL)" 'NR > 1 { \
+	    class[$$3] = 1; if ($$4 == first) { n[$$3]++; human[$$3] += $$5 } robot[$$3, $$4] += $$6; \
+	    if ($$4 == first && $$3 == "walk" && $$8 != "") { walks++; hip += $$8; knee += $$9; ankle += $$10 } } \
+	  BEGIN { count = split(robots, names, " "); first = names[1]; \
+	    printf "  %-16s %6s %12s", "class", "trials", "human W/kg"; \
+	    for (r = 1; r <= count; r++) printf " %10s %13s", names[r] " W/kg", names[r] "/human"; printf "\n" } \
+	  END { for (c in class) { row = sprintf("  %-16s %6d %12.3f", c, n[c], human[c] / n[c]); \
+	      for (r = 1; r <= count; r++) { mean = robot[c, names[r]] / n[c]; row = row sprintf(" %10.3f %13.2f", mean, mean / (human[c] / n[c])) } \
+	      print row | "sort" } close("sort"); \
+	    printf "  (human: %s model; the paper reports HRP-4C / human = 3.3; per-trial logs in the table folder)\n", human_model; \
+	    if (walks > 0) printf "  human sagittal leg power on %d walks (|tau u|, positive and negative): hip %.0f %%, knee %.0f %%, ankle %.0f %%\n" \
+	      "  published (positive work, walking 2.0 m/s; Farris & Sawicki 2012, J. R. Soc. Interface 9:110): hip 44 %%, knee 17 %%, ankle 39 %%\n", \
+	      walks, 100 * hip / walks, 100 * knee / walks, 100 * ankle / walks }' $$out/power_ratio.csv; \
 	echo "make: per-trial table in $$out/power_ratio.csv"
 
 # ---- compose scripts -------------------------------------------------------------------

@@ -17,6 +17,7 @@
 
 #include "common/error.h"
 #include "common/intermediate_file.h"
+#include "common/text_encoding.h"
 #include "common/version.h"
 
 namespace syn {
@@ -42,7 +43,13 @@ inline void AddCommonFlags(CLI::App& app, CommonFlags& flags, bool with_output =
 // where exceptions become exit codes.
 // What a loaded file needed forgiving or looks wrong in (Model::warnings()), one line each.
 inline void PrintWarnings(const std::string& tool, const std::vector<std::string>& warnings) {
-  for (const std::string& warning : warnings) std::cerr << tool << ": warning: " << warning << "\n";
+  for (const std::string& warning : warnings) std::cerr << tool << ": warning: " << Printable(warning) << "\n";
+}
+
+// How a loaded file was read (Model::notes()), printed with -v.
+inline void PrintNotes(const std::string& tool, const std::vector<std::string>& notes, bool verbose) {
+  if (!verbose) return;
+  for (const std::string& note : notes) std::cerr << tool << ": " << Printable(note) << "\n";
 }
 
 // `parameters` (optional) returns the canonical parameters of a run: what goes into the output's

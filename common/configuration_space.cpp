@@ -1,5 +1,6 @@
 #include "common/configuration_space.h"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -39,14 +40,17 @@ void Difference(const ConfigurationShape& shape, const double* q0, const double*
 }
 
 void Interpolate(const ConfigurationShape& shape, const double* q0, const double* q1, double s, double* q) {
-  int start = 0;
-  if (shape.free_base) {
-    const Eigen::Quaterniond a(q0[0], q0[1], q0[2], q0[3]), b(q1[0], q1[1], q1[2], q1[3]);
-    const Eigen::Quaterniond blended = a.slerp(s, b);  // takes the nearer of b and −b
-    q[0] = blended.w(), q[1] = blended.x(), q[2] = blended.y(), q[3] = blended.z();
-    start = 4;
+  for (int i = 0; i < shape.nq; ++i) q[i] = (1 - s) * q0[i] + s * q1[i];
+  if (!shape.free_base) return;
+  // The base orientation by normalised lerp toward the nearer of q1 and −q1 (the same rotation): between
+  // neighbouring frames it is slerp to second order in the angle, and costs no trigonometry.
+  if (q0[0] * q1[0] + q0[1] * q1[1] + q0[2] * q1[2] + q0[3] * q1[3] < 0) {
+    for (int i = 0; i < 4; ++i) q[i] = (1 - s) * q0[i] - s * q1[i];
   }
-  for (int i = start; i < shape.nq; ++i) q[i] = q0[i] + s * (q1[i] - q0[i]);
+  const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (norm > 0) {
+    for (int i = 0; i < 4; ++i) q[i] /= norm;
+  }
 }
 
 void CheckSize(const char* what, Eigen::Index expected, Eigen::Index size) {

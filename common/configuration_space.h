@@ -8,7 +8,7 @@
 //
 //   Integrate:    q1 = q0 ⊕ v        base: R1 = exp([v_ω]) R0, p1 = p0 + v_p
 //   Difference:   v  = q1 ⊖ q0       so that q0 ⊕ (q1 ⊖ q0) = q1 (rotation angle ≤ π)
-//   Interpolate:  q(s), s ∈ [0, 1]  base orientation by slerp, everything else linear
+//   Interpolate:  q(s), s ∈ [0, 1]  linear; the base orientation by normalised lerp (nearer sign)
 //
 // Pointer forms are for hot loops (no allocation, no checks); the Eigen forms
 // check sizes and say what they expected.

@@ -1,5 +1,7 @@
 #include "common/error.h"
 
+#include "common/text_encoding.h"
+
 namespace syn {
 
 std::string Location::ToString() const {
@@ -10,8 +12,9 @@ std::string Location::ToString() const {
 }
 
 DataError::DataError(Location where, const std::string& message)
-    : std::runtime_error(where.ToString() + ": " + message),
+    // Messages quote text from files (labels, header fields): non-printable bytes are escaped as \xNN.
+    : std::runtime_error(Printable(where.ToString() + ": " + message)),
       where_(std::move(where)),
-      message_(message) {}
+      message_(Printable(message)) {}
 
 }  // namespace syn

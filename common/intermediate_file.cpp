@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "common/sha256.h"
+#include "common/text_encoding.h"
 
 namespace syn {
 namespace {
@@ -96,7 +97,11 @@ nlohmann::json DescribeInput(const std::string& path) {
 std::string CanonicalJson(const nlohmann::json& value) {
   // nlohmann::json keeps object keys in a std::map (sorted) and prints
   // doubles as the shortest text that reads back to the same value.
-  return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::strict);
+  // Text from files may be Latin-1 or garbage: stored as UTF-8 by the one rule of common/text_encoding.h,
+  // so a dump never fails on a byte.
+  nlohmann::json utf8 = value;
+  MakeJsonUtf8(utf8);
+  return utf8.dump(-1, ' ', false, nlohmann::json::error_handler_t::strict);
 }
 
 // ---- writer ------------------------------------------------------------------
@@ -204,7 +209,11 @@ void IntermediateWriter::writeInts(const std::string& name, const std::vector<in
 void IntermediateWriter::writeStrings(const std::string& name, const std::vector<std::string>& values) {
   std::vector<const char*> pointers;
   pointers.reserve(values.size());
-  for (const std::string& value : values) pointers.push_back(value.c_str());
+  // HDF5 strings are declared UTF-8: text from files is converted by the rule of common/text_encoding.h.
+  std::vector<std::string> utf8;
+  utf8.reserve(values.size());
+  for (const std::string& value : values) utf8.push_back(ToUtf8(value));
+  for (const std::string& value : utf8) pointers.push_back(value.c_str());
   Id type = StringType(path_);
   WriteNumeric(handles_->file.get(), path_, name, {static_cast<int64_t>(values.size())}, type.get(), type.get(),
                pointers.data());
@@ -212,7 +221,8 @@ void IntermediateWriter::writeStrings(const std::string& name, const std::vector
 
 void IntermediateWriter::writeAttribute(const std::string& object, const std::string& name, const std::string& value) {
   Id type = StringType(path_);
-  const char* pointer = value.c_str();
+  const std::string utf8 = ToUtf8(value);
+  const char* pointer = utf8.c_str();
   WriteAttributeRaw(handles_->file.get(), path_, object, name, type.get(), &pointer);
 }
 

@@ -73,6 +73,7 @@ class Model {
   const Eigen::VectorXd& qLower() const;  // [nq], -inf where unlimited (base, continuous joints)
   const Eigen::VectorXd& qUpper() const;  // [nq], +inf where unlimited
   const Eigen::VectorXd& uLimit() const;  // [nu], +inf where the URDF gives none (velocity 0 or absent)
+  const Eigen::VectorXd& effortLimit() const;  // [nu], the URDF's joint effort (N·m or N); +inf where none
   Eigen::VectorXd defaultQ() const;       // identity base orientation, zeros
 
   // Every URDF link, including links merged into their parent by fixed joints.
@@ -80,6 +81,7 @@ class Model {
   int findLinkIndex(const std::string& link_name) const;  // -1 if absent
   const std::vector<ModelJoint>& joints() const;         // file order, plus the free base first if added
   const std::vector<std::string>& warnings() const;      // what the URDF needed forgiving ("file:line: ...")
+  const std::vector<std::string>& notes() const;         // how it was read, for -v (a floating root joint taken as the free base)
 
   struct Impl;
   const Impl& impl() const { return *impl_; }
@@ -125,6 +127,20 @@ class Workspace {
   // out = A(q) v, the mass matrix times a vector, in O(n) (Simbody
   // multiplyByM; A is never formed). Requires setQ.
   void calcMassTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out);
+  // out = A(q) v at the configuration q given here (a free base's quaternion is normalised, as setQ does),
+  // by one O(n) recursive pass — body poses, then composite momenta from the leaves to the root — that
+  // neither realises nor changes the Simbody state (getQ() stays). The same product as setQ(q) followed
+  // by calcMassTimes(v), to rounding, in about a tenth of the time: Debian's Simbody is built with its
+  // run-time checks on (see DESIGN.md, Toolchain facts), and setQ realises everything a position stage
+  // holds. For loops that need nothing but A(q) v, such as syn-evaluate's Monte-Carlo reconstructions;
+  // the model tests hold it to calcMassTimes.
+  void calcMassTimesAt(const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& out);
+  // The same pass with accelerations: momentum = A(q) u and tau = A(q) udot + b(q, u) + g(q), as
+  // calcMassTimes and calcInverseDynamics give them after setQ and setU, without realising (or changing)
+  // the Simbody state. Link poses at q then come from findLinkPoseAtLastDynamics.
+  void calcDynamicsAt(const Eigen::VectorXd& q, const Eigen::VectorXd& u, const Eigen::VectorXd& udot,
+                      Eigen::VectorXd& momentum, Eigen::VectorXd& tau);
+  Eigen::Isometry3d findLinkPoseAtLastDynamics(int link) const;
   // out = A(q)⁻¹ v in O(n) (multiplyByMInv). Requires setQ.
   void calcMassInverseTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out);
   // Generalized momentum p = A(q) u. Requires setQ and setU.
@@ -139,6 +155,10 @@ class Workspace {
   // udot for applied generalized forces tau, gravity included, no contact:
   // A⁻¹ (tau − b − g), two O(n) operators. Requires setQ and setU.
   void calcForwardDynamics(const Eigen::VectorXd& tau, Eigen::VectorXd& udot);
+  // J̇u for calcFrameJacobian's point: the frame's (angular, linear) acceleration, in ground, when
+  // udot = 0 — the velocity-product term a task-space acceleration needs (Simbody
+  // calcBiasForFrameJacobian, O(n)). Requires setQ and setU.
+  Eigen::Matrix<double, 6, 1> calcFrameBiasAcceleration(int link, const Eigen::Vector3d& point_in_link);
   // Whole-body centre of mass (m) and its velocity. Requires setQ (and setU for the velocity).
   Eigen::Vector3d findCenterOfMass();
 

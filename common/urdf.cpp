@@ -9,6 +9,7 @@
 
 #include "common/error.h"
 #include "common/file_bytes.h"
+#include "common/text_encoding.h"
 
 namespace syn {
 namespace {
@@ -94,7 +95,7 @@ class UrdfParser {
   std::string name(const tinyxml2::XMLElement* element, const char* what) const {
     const char* text = element->Attribute("name");
     if (!text || !*text) fail(element, std::string(what) + " without a name");
-    return text;
+    return ToUtf8(text);  // names end up in JSON and HDF5: Latin-1 or stray bytes by common/text_encoding.h
   }
 
   UrdfLink link(const tinyxml2::XMLElement* element) const {
@@ -133,8 +134,8 @@ class UrdfParser {
     const tinyxml2::XMLElement* child = element->FirstChildElement("child");
     if (!parent || !parent->Attribute("link")) fail(element, "joint '" + joint.name + "' has no <parent link=...>");
     if (!child || !child->Attribute("link")) fail(element, "joint '" + joint.name + "' has no <child link=...>");
-    joint.parent = parent->Attribute("link");
-    joint.child = child->Attribute("link");
+    joint.parent = ToUtf8(parent->Attribute("link"));
+    joint.child = ToUtf8(child->Attribute("link"));
     joint.origin = origin(element);
     if (const tinyxml2::XMLElement* axis = element->FirstChildElement("axis")) {
       const std::vector<double> xyz = numbers(axis, "xyz", 3, {1, 0, 0});
@@ -170,7 +171,7 @@ class UrdfParser {
     if (!robot) throw DataError(Location::AtLine(file_, 1), "no <robot> element: not a URDF file");
     RobotDescription description;
     description.file = file_;
-    description.name = robot->Attribute("name") ? robot->Attribute("name") : "";
+    description.name = robot->Attribute("name") ? ToUtf8(robot->Attribute("name")) : "";
     std::map<std::string, int> link_index;
     for (const auto* element = robot->FirstChildElement("link"); element; element = element->NextSiblingElement("link")) {
       UrdfLink parsed = link(element);
@@ -253,6 +254,49 @@ Eigen::Matrix3d UrdfRpyToRotation(const Eigen::Vector3d& rpy) {
 
 RobotDescription ParseUrdf(const std::string& xml_text, const std::string& file_name) {
   return UrdfParser(file_name).parse(xml_text);
+}
+
+namespace {
+
+// The root's floating joint when the root is a massless link whose only joint is floating, else -1.
+int FloatingRootJoint(const RobotDescription& description) {
+  if (description.root_link < 0) return -1;
+  const UrdfLink& root = description.links[static_cast<size_t>(description.root_link)];
+  if (root.inertial.mass >= 1e-6) return -1;
+  int found = -1;
+  for (size_t j = 0; j < description.joints.size(); ++j) {
+    if (description.joints[j].parent != root.name) continue;
+    if (found >= 0 || description.joints[j].type != UrdfJointType::kFloating) return -1;
+    found = static_cast<int>(j);
+  }
+  return found;
+}
+
+}  // namespace
+
+std::string TakeFloatingRootJointAsFreeBase(RobotDescription& description) {
+  const int joint_index = FloatingRootJoint(description);
+  if (joint_index < 0) return "";
+  const UrdfJoint joint = description.joints[static_cast<size_t>(joint_index)];
+  const std::string root_name = description.links[static_cast<size_t>(description.root_link)].name;
+  if (!joint.origin.isApprox(Eigen::Isometry3d::Identity(), 1e-12)) {
+    description.warnings.push_back(description.file + ":" + std::to_string(joint.line) + ": floating joint '" +
+                                   joint.name + "' has a non-zero origin, ignored: the free base's pose is absolute");
+  }
+  description.joints.erase(description.joints.begin() + joint_index);
+  description.links.erase(description.links.begin() + description.root_link);
+  description.root_link = description.findLink(joint.child);
+  return description.file + ":" + std::to_string(joint.line) + ": floating joint '" + joint.name +
+         "' from the massless root link '" + root_name + "' taken as the free base of '" + joint.child + "'";
+}
+
+std::string WeldFloatingRootJoint(RobotDescription& description) {
+  const int joint_index = FloatingRootJoint(description);
+  if (joint_index < 0) return "";
+  UrdfJoint& joint = description.joints[static_cast<size_t>(joint_index)];
+  joint.type = UrdfJointType::kFixed;
+  return description.file + ":" + std::to_string(joint.line) + ": floating joint '" + joint.name +
+         "' from the massless root link '" + joint.parent + "' welded (fixed base)";
 }
 
 RobotDescription LoadUrdf(const std::string& path) { return ParseUrdf(ReadFileText(path), path); }

@@ -60,6 +60,17 @@ struct RobotDescription {
 // joint types, negative mass or inertia diagonal, non-numeric or wrong-count
 // numbers, a zero axis.
 [[nodiscard]] RobotDescription ParseUrdf(const std::string& xml_text, const std::string& file_name);
+
+// A URDF rooted at an empty link with a `floating` joint to the real base (Isaac / MuJoCo-oriented
+// exporters: <link name="world"/> <joint type="floating"> world -> base_link): the floating joint is
+// a free base. When the root link is massless (< 1e-6 kg) and its only joint is floating, this removes
+// that root link and joint, so the joint's child becomes the root (to be put on a free mobilizer), and
+// returns a note "file:line: ..." saying so; otherwise it changes nothing and returns "". The joint's
+// origin is dropped (a free base's pose is absolute); a non-identity origin adds a warning.
+std::string TakeFloatingRootJointAsFreeBase(RobotDescription& description);
+// Same shape, for a fixed base: the floating joint becomes a fixed joint (the base welded at its
+// origin). Returns the note, or "".
+std::string WeldFloatingRootJoint(RobotDescription& description);
 [[nodiscard]] RobotDescription LoadUrdf(const std::string& path);
 
 }  // namespace syn

@@ -76,8 +76,13 @@ struct BodyMassAccumulator {
 
 Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
   const std::string text = ReadFileText(urdf_path);
-  const RobotDescription urdf = ParseUrdf(text, urdf_path);
+  RobotDescription urdf = ParseUrdf(text, urdf_path);
   auto impl = std::make_shared<Impl>(options.gravity);
+  // A massless root with a floating joint (world -> base_link) is the free base written out.
+  const std::string floating_root_note = options.floating_base == FloatingBase::kFixed
+                                             ? WeldFloatingRootJoint(urdf)
+                                             : TakeFloatingRootJointAsFreeBase(urdf);
+  if (!floating_root_note.empty()) impl->notes.push_back(floating_root_note);
   impl->name = urdf.name;
   impl->path = urdf_path;
   impl->sha256 = Sha256Hex(text.data(), text.size());
@@ -89,13 +94,15 @@ Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
     const UrdfJoint& joint = urdf.joints[j];
     if (joint.type == UrdfJointType::kFloating) {
       throw DataError(Location::AtLine(urdf_path, joint.line),
-                      "joint '" + joint.name + "': floating joints inside the tree are not supported; use "
-                      "--floating-base free for a free root");
+                      "joint '" + joint.name + "': a floating joint is read only as the free base, from a massless "
+                      "root link whose only joint it is (<link name=\"world\"/> -> base); inside the tree it is not "
+                      "supported");
     }
     child_joints[static_cast<size_t>(urdf.findLink(joint.parent))].push_back(static_cast<int>(j));
   }
   const UrdfLink& root = urdf.links[static_cast<size_t>(urdf.root_link)];
   FloatingBase base = options.floating_base;
+  if (base == FloatingBase::kAuto && !floating_root_note.empty()) base = FloatingBase::kFree;
   if (base == FloatingBase::kAuto) {
     bool virtual_chain = false;
     for (int j : child_joints[static_cast<size_t>(urdf.root_link)]) {
@@ -202,6 +209,7 @@ Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
   impl->q_lower = Eigen::VectorXd::Constant(impl->nq, -std::numeric_limits<double>::infinity());
   impl->q_upper = Eigen::VectorXd::Constant(impl->nq, std::numeric_limits<double>::infinity());
   impl->u_limit = Eigen::VectorXd::Constant(impl->nu, std::numeric_limits<double>::infinity());
+  impl->effort_limit = Eigen::VectorXd::Constant(impl->nu, std::numeric_limits<double>::infinity());
   if (base == FloatingBase::kFree) {
     const SimTK::MobilizedBody& free = impl->matter.getMobilizedBody(mobilized[0]);
     const int q0 = free.getFirstQIndex(state), u0 = free.getFirstUIndex(state);
@@ -229,6 +237,7 @@ Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
         impl->q_upper[entry.q_index] = joint.upper;
       }
       if (joint.velocity > 0) impl->u_limit[entry.u_index] = joint.velocity;
+      if (joint.effort > 0) impl->effort_limit[entry.u_index] = joint.effort;
     }
     impl->joints.push_back(entry);
   }
@@ -284,9 +293,11 @@ const std::vector<std::string>& Model::velocityNames() const { return impl_->vel
 const Eigen::VectorXd& Model::qLower() const { return impl_->q_lower; }
 const Eigen::VectorXd& Model::qUpper() const { return impl_->q_upper; }
 const Eigen::VectorXd& Model::uLimit() const { return impl_->u_limit; }
+const Eigen::VectorXd& Model::effortLimit() const { return impl_->effort_limit; }
 const std::vector<std::string>& Model::linkNames() const { return impl_->link_names; }
 const std::vector<ModelJoint>& Model::joints() const { return impl_->joints; }
 const std::vector<std::string>& Model::warnings() const { return impl_->warnings; }
+const std::vector<std::string>& Model::notes() const { return impl_->notes; }
 
 Eigen::VectorXd Model::defaultQ() const {
   Eigen::VectorXd q = Eigen::VectorXd::Zero(impl_->nq);
@@ -316,8 +327,291 @@ void CopyInto(const Eigen::VectorXd& from, SimTK::Vector& to) {
 // A Free mobilizer's u: angular velocity (0..2), then the origin's linear velocity in ground (3..5).
 constexpr int kFreeBaseVerticalVelocity = 5;
 
+// The tree as plain numbers, for calcMassTimesAt. Each mobilized body (parents before children, as
+// Simbody numbers them) is described in its mobilizer's outboard frame M rather than its body frame B:
+// the children's inboard frames F and the body's mass properties are re-expressed in M once, here, so a
+// pass needs one 3 × 3 product per body. A pin turns M about F's Z, a slider moves it along F's X, so a
+// pin's axis passes through M's origin. Read from the realised system once per Workspace.
+struct MassTimesTree {
+  struct Body {
+    Model::Impl::MobilityKind kind = Model::Impl::MobilityKind::kGround;
+    int parent = 0;  // mobilized body index, 0 = ground
+    int q_index = -1, u_index = -1;
+    Eigen::Matrix3d R_PF = Eigen::Matrix3d::Identity();  // the inboard frame F in the parent's M frame
+    Eigen::Vector3d p_PF = Eigen::Vector3d::Zero();
+    double mass = 0;
+    Eigen::Vector3d com = Eigen::Vector3d::Zero();                // in M
+    Eigen::Matrix3d inertia_about_com = Eigen::Matrix3d::Zero();  // in M
+  };
+  // Per-call scratch, one entry per body (sized once: the pass never allocates).
+  struct Pose {
+    Eigen::Matrix3d R;                  // R_GM
+    Eigen::Vector3d origin;             // M's origin in ground
+    Eigen::Vector3d axis;               // pin or slider axis in ground
+    Eigen::Matrix3d R_GF;               // the free base's inboard frame in ground
+    Eigen::Vector3d angular, linear;    // angular velocity, velocity of M's origin
+    Eigen::Vector3d momentum_angular, momentum_linear;  // of the subtree, about M's origin
+    Eigen::Vector3d alpha, acceleration;  // angular acceleration, acceleration of M's origin (gravity: ground up)
+    Eigen::Vector3d moment, force;        // inverse dynamics: of the subtree, about M's origin
+  };
+  std::vector<Body> bodies;  // index 0 = ground
+  std::vector<Pose> poses;
+  std::vector<int> link_body;                  // per URDF link: its mobilized body (0 = ground)
+  std::vector<Eigen::Isometry3d> link_in_M;    // per URDF link: the link frame in that body's M frame
+  Eigen::VectorXd q;         // the normalised configuration
+
+  explicit MassTimesTree(const Model::Impl& model) {
+    SimTK::State state = model.system.getDefaultState();
+    model.system.realize(state, SimTK::Stage::Position);
+    const int count = model.matter.getNumBodies();
+    bodies.resize(static_cast<size_t>(count));
+    poses.resize(static_cast<size_t>(count));
+    q.resize(model.nq);
+    // Each body frame B in its M frame (ground: identity); parents come first, so theirs is known.
+    std::vector<Eigen::Isometry3d> B_in_M(static_cast<size_t>(count), Eigen::Isometry3d::Identity());
+    for (int b = 1; b < count; ++b) {
+      const SimTK::MobilizedBody& mobod = model.matter.getMobilizedBody(SimTK::MobilizedBodyIndex(b));
+      Body& body = bodies[static_cast<size_t>(b)];
+      body.kind = model.mobilities[static_cast<size_t>(b)].kind;
+      body.parent = static_cast<int>(mobod.getParentMobilizedBody().getMobilizedBodyIndex());
+      body.q_index = mobod.getFirstQIndex(state);
+      body.u_index = mobod.getFirstUIndex(state);
+      const Eigen::Isometry3d B_in_own_M = ToEigen(mobod.getOutboardFrame(state)).inverse();
+      B_in_M[static_cast<size_t>(b)] = B_in_own_M;
+      const Eigen::Isometry3d F_in_parent_M = B_in_M[static_cast<size_t>(body.parent)] * ToEigen(mobod.getInboardFrame(state));
+      body.R_PF = F_in_parent_M.linear();
+      body.p_PF = F_in_parent_M.translation();
+      const SimTK::MassProperties& mass = mobod.getBodyMassProperties(state);
+      const SimTK::Vec3 com = mass.getMassCenter();
+      const SimTK::Mat33 inertia = mass.calcCentralInertia().toMat33();  // Simbody's is about B's origin
+      Eigen::Matrix3d inertia_in_B;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) inertia_in_B(i, j) = inertia(i, j);
+      }
+      body.mass = mass.getMass();
+      body.com = B_in_own_M * Eigen::Vector3d(com[0], com[1], com[2]);
+      body.inertia_about_com = B_in_own_M.linear() * inertia_in_B * B_in_own_M.linear().transpose();
+    }
+    for (const LinkPlacement& link : model.links) {
+      link_body.push_back(static_cast<int>(link.body));
+      link_in_M.push_back(B_in_M[static_cast<size_t>(static_cast<int>(link.body))] * link.in_body);
+    }
+  }
+
+  // p = A(q) u and tau = A(q) udot + b(q, u) + g(q) (Workspace::calcInverseDynamics) in one outward and one
+  // inward pass; the poses stay for linkPose(). Gravity enters as the ground accelerating upward by g.
+  void dynamics(bool free_base, double gravity, const Eigen::VectorXd& q_in, const Eigen::VectorXd& u,
+                const Eigen::VectorXd& udot, Eigen::VectorXd& momentum, Eigen::VectorXd& tau) {
+    using Kind = Model::Impl::MobilityKind;
+    q = q_in;
+    if (free_base) {
+      const double norm = q.head<4>().norm();
+      if (norm > 0) q.head<4>() /= norm;
+    }
+    Pose& ground = poses[0];
+    ground.R.setIdentity();
+    ground.origin.setZero();
+    ground.angular.setZero();
+    ground.linear.setZero();
+    ground.alpha.setZero();
+    ground.acceleration = Eigen::Vector3d(0, 0, gravity);
+    for (size_t b = 1; b < bodies.size(); ++b) {
+      const Body& body = bodies[b];
+      const Pose& parent = poses[static_cast<size_t>(body.parent)];
+      Pose& pose = poses[b];
+      const Eigen::Matrix3d R_GF = parent.R * body.R_PF;
+      pose.origin = parent.origin + parent.R * body.p_PF;
+      const Eigen::Vector3d arm = pose.origin - parent.origin;
+      pose.angular = parent.angular;
+      pose.linear = parent.linear + parent.angular.cross(arm);
+      pose.alpha = parent.alpha;
+      pose.acceleration = parent.acceleration + parent.alpha.cross(arm) + parent.angular.cross(parent.angular.cross(arm));
+      // The mobility's own motion relative to the parent: an offset of M's origin, its velocity and
+      // acceleration, and a relative angular velocity and acceleration, all in ground.
+      Eigen::Vector3d offset = Eigen::Vector3d::Zero(), velocity = Eigen::Vector3d::Zero();
+      Eigen::Vector3d acceleration = Eigen::Vector3d::Zero(), spin = Eigen::Vector3d::Zero();
+      Eigen::Vector3d spin_rate = Eigen::Vector3d::Zero();
+      switch (body.kind) {
+        case Kind::kPin: {
+          const double c = std::cos(q[body.q_index]), s = std::sin(q[body.q_index]);
+          pose.R.col(0) = c * R_GF.col(0) + s * R_GF.col(1);
+          pose.R.col(1) = c * R_GF.col(1) - s * R_GF.col(0);
+          pose.R.col(2) = R_GF.col(2);
+          pose.axis = R_GF.col(2);
+          spin = pose.axis * u[body.u_index];
+          spin_rate = pose.axis * udot[body.u_index];
+          break;
+        }
+        case Kind::kSlider:
+          pose.R = R_GF;
+          pose.axis = R_GF.col(0);
+          offset = pose.axis * q[body.q_index];
+          velocity = pose.axis * u[body.u_index];
+          acceleration = pose.axis * udot[body.u_index];
+          break;
+        case Kind::kFree: {
+          const Eigen::Quaterniond rotation(q[body.q_index], q[body.q_index + 1], q[body.q_index + 2], q[body.q_index + 3]);
+          pose.R = R_GF * rotation.toRotationMatrix();
+          pose.R_GF = R_GF;
+          offset = R_GF * q.segment<3>(body.q_index + 4);
+          spin = R_GF * u.segment<3>(body.u_index);
+          velocity = R_GF * u.segment<3>(body.u_index + 3);
+          spin_rate = R_GF * udot.segment<3>(body.u_index);
+          acceleration = R_GF * udot.segment<3>(body.u_index + 3);
+          break;
+        }
+        case Kind::kGround:
+          pose.R = R_GF;
+          break;
+      }
+      // d/dt of a vector fixed in the parent: parent.angular × it.
+      pose.origin += offset;
+      pose.linear += parent.angular.cross(offset) + velocity;
+      pose.acceleration += parent.alpha.cross(offset) + parent.angular.cross(parent.angular.cross(offset)) +
+                           2.0 * parent.angular.cross(velocity) + acceleration;
+      pose.angular += spin;
+      pose.alpha += parent.angular.cross(spin) + spin_rate;
+
+      const Eigen::Vector3d com = pose.R * body.com;
+      const Eigen::Vector3d spin_in_M = pose.R.transpose() * pose.angular;
+      const Eigen::Vector3d inertia_spin = pose.R * (body.inertia_about_com * spin_in_M);
+      const Eigen::Vector3d inertia_alpha = pose.R * (body.inertia_about_com * (pose.R.transpose() * pose.alpha));
+      pose.momentum_linear = body.mass * (pose.linear + pose.angular.cross(com));
+      pose.momentum_angular = inertia_spin + com.cross(pose.momentum_linear);
+      const Eigen::Vector3d com_acceleration =
+          pose.acceleration + pose.alpha.cross(com) + pose.angular.cross(pose.angular.cross(com));
+      pose.force = body.mass * com_acceleration;
+      pose.moment = inertia_alpha + pose.angular.cross(inertia_spin) + com.cross(pose.force);
+    }
+    for (size_t b = bodies.size() - 1; b >= 1; --b) {
+      const Body& body = bodies[b];
+      const Pose& pose = poses[b];
+      switch (body.kind) {
+        case Kind::kPin:
+          momentum[body.u_index] = pose.axis.dot(pose.momentum_angular);
+          tau[body.u_index] = pose.axis.dot(pose.moment);
+          break;
+        case Kind::kSlider:
+          momentum[body.u_index] = pose.axis.dot(pose.momentum_linear);
+          tau[body.u_index] = pose.axis.dot(pose.force);
+          break;
+        case Kind::kFree:
+          momentum.segment<3>(body.u_index) = pose.R_GF.transpose() * pose.momentum_angular;
+          momentum.segment<3>(body.u_index + 3) = pose.R_GF.transpose() * pose.momentum_linear;
+          tau.segment<3>(body.u_index) = pose.R_GF.transpose() * pose.moment;
+          tau.segment<3>(body.u_index + 3) = pose.R_GF.transpose() * pose.force;
+          break;
+        case Kind::kGround:
+          break;
+      }
+      if (body.parent > 0) {
+        Pose& parent = poses[static_cast<size_t>(body.parent)];
+        const Eigen::Vector3d arm = pose.origin - parent.origin;
+        parent.momentum_linear += pose.momentum_linear;
+        parent.momentum_angular += pose.momentum_angular + arm.cross(pose.momentum_linear);
+        parent.force += pose.force;
+        parent.moment += pose.moment + arm.cross(pose.force);
+      }
+    }
+  }
+
+  // A URDF link's world pose at the configuration of the last dynamics() call.
+  Eigen::Isometry3d linkPose(int link) const {
+    const Pose& pose = poses[static_cast<size_t>(link_body[static_cast<size_t>(link)])];
+    Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
+    body.linear() = pose.R;
+    body.translation() = pose.origin;
+    return body * link_in_M[static_cast<size_t>(link)];
+  }
+
+  void massTimes(bool free_base, const Eigen::VectorXd& q_in, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+    using Kind = Model::Impl::MobilityKind;
+    q = q_in;
+    if (free_base) {
+      const double norm = q.head<4>().norm();
+      if (norm > 0) q.head<4>() /= norm;
+    }
+    Pose& ground = poses[0];
+    ground.R.setIdentity();
+    ground.origin.setZero();
+    ground.angular.setZero();
+    ground.linear.setZero();
+    // Outward: poses, velocities and each body's own momentum.
+    for (size_t b = 1; b < bodies.size(); ++b) {
+      const Body& body = bodies[b];
+      const Pose& parent = poses[static_cast<size_t>(body.parent)];
+      Pose& pose = poses[b];
+      const Eigen::Matrix3d R_GF = parent.R * body.R_PF;
+      pose.origin = parent.origin + parent.R * body.p_PF;
+      pose.angular = parent.angular;
+      pose.linear = parent.linear + parent.angular.cross(pose.origin - parent.origin);
+      switch (body.kind) {
+        case Kind::kPin: {
+          const double c = std::cos(q[body.q_index]), s = std::sin(q[body.q_index]);
+          pose.R.col(0) = c * R_GF.col(0) + s * R_GF.col(1);
+          pose.R.col(1) = c * R_GF.col(1) - s * R_GF.col(0);
+          pose.R.col(2) = R_GF.col(2);
+          pose.axis = R_GF.col(2);
+          pose.angular += pose.axis * v[body.u_index];  // about an axis through M's origin
+          break;
+        }
+        case Kind::kSlider:
+          pose.R = R_GF;
+          pose.axis = R_GF.col(0);
+          pose.origin += pose.axis * q[body.q_index];
+          pose.linear += pose.axis * v[body.u_index];  // the parent's rotation carried the extra offset too
+          pose.linear += parent.angular.cross(pose.axis * q[body.q_index]);
+          break;
+        case Kind::kFree: {
+          // q: M's orientation and origin in F; u: its angular velocity and origin velocity, both in F.
+          const Eigen::Quaterniond rotation(q[body.q_index], q[body.q_index + 1], q[body.q_index + 2], q[body.q_index + 3]);
+          const Eigen::Vector3d offset = R_GF * q.segment<3>(body.q_index + 4);
+          pose.R = R_GF * rotation.toRotationMatrix();
+          pose.R_GF = R_GF;
+          pose.linear += parent.angular.cross(offset) + R_GF * v.segment<3>(body.u_index + 3);
+          pose.origin += offset;
+          pose.angular += R_GF * v.segment<3>(body.u_index);
+          break;
+        }
+        case Kind::kGround:
+          pose.R = R_GF;
+          break;
+      }
+      const Eigen::Vector3d com = pose.R * body.com;
+      pose.momentum_linear = body.mass * (pose.linear + pose.angular.cross(com));
+      pose.momentum_angular = pose.R * (body.inertia_about_com * (pose.R.transpose() * pose.angular)) +
+                              com.cross(pose.momentum_linear);
+    }
+    // Inward: subtree momenta, and each mobility's share of them.
+    for (size_t b = bodies.size() - 1; b >= 1; --b) {
+      const Body& body = bodies[b];
+      const Pose& pose = poses[b];
+      switch (body.kind) {
+        case Kind::kPin:  // the subtree's angular momentum about the joint axis
+          out[body.u_index] = pose.axis.dot(pose.momentum_angular);
+          break;
+        case Kind::kSlider:
+          out[body.u_index] = pose.axis.dot(pose.momentum_linear);
+          break;
+        case Kind::kFree:
+          out.segment<3>(body.u_index) = pose.R_GF.transpose() * pose.momentum_angular;
+          out.segment<3>(body.u_index + 3) = pose.R_GF.transpose() * pose.momentum_linear;
+          break;
+        case Kind::kGround:
+          break;
+      }
+      if (body.parent > 0) {
+        Pose& parent = poses[static_cast<size_t>(body.parent)];
+        parent.momentum_linear += pose.momentum_linear;
+        parent.momentum_angular += pose.momentum_angular + (pose.origin - parent.origin).cross(pose.momentum_linear);
+      }
+    }
+  }
+};
+
 struct Workspace::Impl {
   const Model::Impl& model;
+  MassTimesTree tree;
   SimTK::State state;
   Eigen::VectorXd q, u;
   SimTK::Vector scratch_in, scratch_out, zero_mobility_forces;
@@ -346,6 +640,7 @@ struct Workspace::Impl {
 
   explicit Impl(const Model::Impl& model_in)
       : model(model_in),
+        tree(model_in),
         state(model_in.system.getDefaultState()),
         q(Eigen::VectorXd::Zero(model_in.nq)),
         u(Eigen::VectorXd::Zero(model_in.nu)),
@@ -475,6 +770,20 @@ void Workspace::calcMassTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out) {
   impl_->fromScratch(out);
 }
 
+void Workspace::calcMassTimesAt(const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+  out.resize(impl_->model.nu);
+  impl_->tree.massTimes(model_.hasFreeBase(), q, v, out);
+}
+
+void Workspace::calcDynamicsAt(const Eigen::VectorXd& q, const Eigen::VectorXd& u, const Eigen::VectorXd& udot,
+                               Eigen::VectorXd& momentum, Eigen::VectorXd& tau) {
+  momentum.resize(impl_->model.nu);
+  tau.resize(impl_->model.nu);
+  impl_->tree.dynamics(model_.hasFreeBase(), impl_->model.gravity, q, u, udot, momentum, tau);
+}
+
+Eigen::Isometry3d Workspace::findLinkPoseAtLastDynamics(int link) const { return impl_->tree.linkPose(link); }
+
 void Workspace::calcMassInverseTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out) {
   impl_->toScratch(v);
   impl_->model.matter.multiplyByMInv(impl_->state, impl_->scratch_in, impl_->scratch_out);
@@ -523,6 +832,18 @@ void Workspace::calcForwardDynamics(const Eigen::VectorXd& tau, Eigen::VectorXd&
   for (int i = 0; i < impl.model.nu; ++i) impl.scratch_in[i] = tau[i] - impl.scratch_out[i];
   impl.model.matter.multiplyByMInv(impl.state, impl.scratch_in, impl.scratch_out);
   impl.fromScratch(udot);
+}
+
+Eigen::Matrix<double, 6, 1> Workspace::calcFrameBiasAcceleration(int link, const Eigen::Vector3d& point_in_link) {
+  Impl& impl = *impl_;
+  const LinkPlacement& placement = impl.model.links[static_cast<size_t>(link)];
+  Eigen::Matrix<double, 6, 1> bias = Eigen::Matrix<double, 6, 1>::Zero();
+  if (placement.body == SimTK::GroundIndex) return bias;
+  const Eigen::Vector3d station = placement.in_body * point_in_link;
+  const SimTK::SpatialVec simbody_bias = impl.model.matter.calcBiasForFrameJacobian(
+      impl.state, placement.body, SimTK::Vec3(station.x(), station.y(), station.z()));
+  for (int i = 0; i < 3; ++i) bias[i] = simbody_bias[0][i], bias[3 + i] = simbody_bias[1][i];
+  return bias;
 }
 
 Eigen::Vector3d Workspace::findCenterOfMass() {

@@ -55,8 +55,9 @@ struct Model::Impl {
   std::vector<std::string> coordinate_names, velocity_names, link_names;
   std::vector<LinkPlacement> links;
   std::vector<std::string> warnings;
+  std::vector<std::string> notes;
   std::vector<ModelJoint> joints;
-  Eigen::VectorXd q_lower, q_upper, u_limit;
+  Eigen::VectorXd q_lower, q_upper, u_limit, effort_limit;
   std::vector<bool> actuated;  // [nu]
 
   // How each mobilized body moves, for the analytic frame Jacobian: a joint

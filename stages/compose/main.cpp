@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     const syn::ComposeScript script = syn::LoadComposeScript(script_path);
     const syn::Model model = syn::LoadModel(script.model, script.floating_base);
     syn::PrintWarnings("syn-compose", model.warnings());
+    syn::PrintNotes("syn-compose", model.notes(), common.verbose);
     const syn::LibraryReader library(library_path);
     const syn::Composer composer(script, library, model, syn::Composer::StartPose(script, library));
     const syn::ComposedMotion composed = composer.compose();

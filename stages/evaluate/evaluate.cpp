@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "stages/evaluate/worker_threads.h"
 
 namespace syn {
 namespace {
@@ -53,6 +54,7 @@ bool EvaluateOptions::IsValid(std::string* error) const {
   if (!(sliding.window >= 0)) return fail("--slide-window must be >= 0");
   if (!(sliding.penetration >= 0)) return fail("--penetration must be >= 0");
   if (monte_carlo.samples < 0) return fail("--samples must be >= 0");
+  if (threads < 0) return fail("--threads must be >= 0 (0: the default)");
   if (!(monte_carlo.alpha >= 0 && monte_carlo.alpha < 1)) return fail("--alpha must lie in [0, 1)");
   return true;
 }
@@ -92,7 +94,7 @@ nlohmann::json EvaluateMotion(const MotionData& motion, const Model& model, cons
                               const std::string& synergies_path) {
   CheckMotionMatchesModel(motion, model);
   if (motion.frames() < 2) throw DataError(Location::InFile("motion"), "needs at least 2 frames to evaluate");
-  MotionEvaluator evaluator(model, feet, options.eval_rate, options.sliding);
+  MotionEvaluator evaluator(model, feet, options.eval_rate, options.sliding, options.momentum);
   const double origin = motion.time_s.front();
 
   std::vector<TimeRange> ranges;
@@ -104,8 +106,32 @@ nlohmann::json EvaluateMotion(const MotionData& motion, const Model& model, cons
                         motion.time_s[static_cast<size_t>(segment.end_frame - 1)]});
     }
   }
+  const bool heading_frame = model.hasFreeBase();
+  const bool monte_carlo = synergies && all_velocities && options.monte_carlo.samples >= 0;
   RangeMetrics whole;
-  const std::vector<RangeMetrics> stored = evaluator.evaluate(motion.time_s, motion.q, motion.u, ranges, origin, &whole);
+  std::vector<RangeMetrics> stored;
+  auto evaluate_stored = [&](MotionEvaluator& on) {
+    stored = on.evaluate(motion.time_s, motion.q, motion.u, ranges, origin, &whole);
+  };
+  std::vector<MonteCarloSummary> summaries;
+  if (monte_carlo) {
+    std::vector<MonteCarloSegment> inputs;
+    for (size_t s = 0; s < synergies->segments.size(); ++s) {
+      const TrialSynergies::Segment& segment = synergies->segments[s];
+      inputs.push_back({&segment,
+                        std::vector<double>(motion.time_s.begin() + segment.start_frame,
+                                            motion.time_s.begin() + segment.end_frame),
+                        static_cast<int64_t>(s)});
+    }
+    // One evaluator per thread; the trial's own metrics run as one more task beside the reconstructions.
+    const int threads = options.threads > 0 ? options.threads : DefaultThreadCount();
+    std::vector<MotionEvaluator> evaluators;
+    evaluators.push_back(std::move(evaluator));
+    for (int t = 1; t < threads; ++t) evaluators.emplace_back(model, feet, options.eval_rate, options.sliding, options.momentum);
+    summaries = RunMonteCarlo(evaluators, inputs, heading_frame, origin, options.monte_carlo, evaluate_stored);
+  } else {
+    evaluate_stored(evaluator);
+  }
 
   nlohmann::json result;
   result["schema"] = kMetricsSchema;
@@ -128,8 +154,6 @@ nlohmann::json EvaluateMotion(const MotionData& motion, const Model& model, cons
   result["segments"] = nlohmann::json::array();
   if (!synergies) return result;
 
-  const bool heading_frame = model.hasFreeBase();
-  const bool monte_carlo = all_velocities && options.monte_carlo.samples >= 0;
   std::vector<double> dp_change, dke_change, dp_rank_k, dke_rank_k;
   for (size_t s = 0; s < synergies->segments.size(); ++s) {
     const TrialSynergies::Segment& segment = synergies->segments[s];
@@ -138,11 +162,7 @@ nlohmann::json EvaluateMotion(const MotionData& motion, const Model& model, cons
                             {"end_frame", segment.end_frame},
                             {"stored", stored[s].ToJson()}};
     if (monte_carlo) {
-      const std::vector<double> times(motion.time_s.begin() + segment.start_frame,
-                                      motion.time_s.begin() + segment.end_frame);
-      const MonteCarloSummary summary = RunSegmentMonteCarlo(evaluator, segment, times, heading_frame, origin,
-                                                             static_cast<int64_t>(s), options.monte_carlo);
-      entry["monte_carlo"] = summary.ToJson();
+      entry["monte_carlo"] = summaries[s].ToJson();
       const nlohmann::json& perturbed = entry["monte_carlo"]["perturbed"];
       auto collect = [](const nlohmann::json& value, std::vector<double>& into) {
         if (value.is_number()) into.push_back(value.get<double>());

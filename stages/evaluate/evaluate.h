@@ -24,6 +24,12 @@ struct EvaluateOptions {
   double eval_rate = 1000.0;  // Hz: the paper's control rate
   FootSlidingOptions sliding;
   MonteCarloOptions monte_carlo;
+  // Worker threads for the reconstructions; 0 = DefaultThreadCount() (stages/evaluate/worker_threads.h:
+  // SYN_THREADS, else the cores `make -jN` leaves, else every core). An execution setting, not a
+  // parameter: the output is byte-identical for any count, so it is not in ToJson().
+  int threads = 0;
+  // The reference path for tests and benchmarks (motion_metrics.h); same numbers to rounding.
+  MomentumOperator momentum = MomentumOperator::kTree;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;

@@ -31,6 +31,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--alpha", options.monte_carlo.alpha, "Coefficient perturbation: delta ~ U(-alpha, alpha) (paper: 0.2)")
       ->capture_default_str();
+  app.add_option("--threads", options.threads,
+                 "Threads for the Monte-Carlo reconstructions; 0 = SYN_THREADS if set, else the cores make -jN "
+                 "leaves (cores / N), else every core. Any count gives byte-identical output")
+      ->capture_default_str();
   app.add_option("--seed", options.monte_carlo.seed, "Random seed; same seed, same numbers")->capture_default_str();
   app.add_option("--contact-height", options.sliding.contact_height,
                  "A foot is in contact below this height, m (text-to-motion foot skating, GMD 2023: 0.05)")
@@ -54,6 +58,7 @@ int main(int argc, char** argv) {
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);
     const syn::Model model = syn::LoadModel(model_path, floating_base);
     syn::PrintWarnings("syn-evaluate", model.warnings());
+    syn::PrintNotes("syn-evaluate", model.notes(), common.verbose);
     std::vector<syn::FootPoints> feet;
     if (!robot_map_path.empty()) feet = syn::FeetOnModel(syn::LoadRobotMap(robot_map_path), model);
     const syn::MotionData motion = syn::ReadMotionFile(input);

@@ -64,8 +64,8 @@ nlohmann::json RangeMetrics::ToJson() const {
 }
 
 MotionEvaluator::MotionEvaluator(const Model& model, std::vector<FootPoints> feet, double eval_rate,
-                                 const FootSlidingOptions& sliding)
-    : workspace_(model), feet_(std::move(feet)), eval_rate_(eval_rate), sliding_(sliding),
+                                 const FootSlidingOptions& sliding, MomentumOperator momentum)
+    : workspace_(model), momentum_(momentum), feet_(std::move(feet)), eval_rate_(eval_rate), sliding_(sliding),
       actuated_(model.actuatedVelocities()) {}
 
 std::vector<RangeMetrics> MotionEvaluator::evaluate(const std::vector<double>& time, const std::vector<double>& q,
@@ -100,13 +100,22 @@ std::vector<RangeMetrics> MotionEvaluator::evaluate(const std::vector<double>& t
     const double t = grid_origin + static_cast<double>(k_first + i) / eval_rate_;
     q_spline.evaluate(t, qk.data(), nullptr);
     u_spline.evaluate(t, uk.data(), udot.data());
-    workspace_.setQ(qk);
-    workspace_.calcMassTimes(uk, p);
+    const bool simbody = momentum_ == MomentumOperator::kSimbody;
+    if (simbody) {
+      workspace_.setQ(qk);
+      workspace_.calcMassTimes(uk, p);
+    } else if (all_metrics) {
+      workspace_.calcDynamicsAt(qk, uk, udot, p, tau);
+    } else {
+      workspace_.calcMassTimesAt(qk, uk, p);
+    }
     const double kinetic = 0.5 * uk.dot(p);
     double power = RangeMetrics::kNone;
     if (all_metrics) {
-      workspace_.setU(uk);
-      workspace_.calcInverseDynamics(udot, tau);
+      if (simbody) {
+        workspace_.setU(uk);
+        workspace_.calcInverseDynamics(udot, tau);
+      }
       power = 0;
       for (int64_t v = 0; v < nu; ++v) {
         const double joint_power = std::abs(tau[v] * uk[v]);
@@ -116,7 +125,8 @@ std::vector<RangeMetrics> MotionEvaluator::evaluate(const std::vector<double>& t
       power /= mass;
     }
     for (size_t f = 0; f < feet; ++f) {
-      const Eigen::Isometry3d pose = workspace_.findLinkPose(feet_[f].link);
+      const Eigen::Isometry3d pose = simbody ? workspace_.findLinkPose(feet_[f].link)
+                                             : workspace_.findLinkPoseAtLastDynamics(feet_[f].link);
       FootSample& sample = foot_samples[f][static_cast<size_t>(i)];
       sample = {0, 0, std::numeric_limits<double>::infinity()};
       for (const Eigen::Vector3d& point : feet_[f].sole_points) {

@@ -49,9 +49,19 @@ struct RangeMetrics {
   nlohmann::json ToJson() const;
 };
 
+// How p = A(q) u, the inverse dynamics and the foot poses are computed at each grid point. Both give the same numbers to rounding (the model tests
+// hold them to 1e-12, the evaluate tests the metrics of real trials to 1e-9); kTree is several times faster.
+enum class MomentumOperator {
+  kTree,     // Workspace::calcMassTimesAt (and calcDynamicsAt where power and feet are needed): recursive
+             // passes over the tree, no Simbody realisation
+  kSimbody,  // Workspace::setQ, calcMassTimes (Simbody's multiplyByM), setU, calcInverseDynamics and
+             // findLinkPose: the straightforward reference path
+};
+
 class MotionEvaluator {
  public:
-  MotionEvaluator(const Model& model, std::vector<FootPoints> feet, double eval_rate, const FootSlidingOptions& sliding);
+  MotionEvaluator(const Model& model, std::vector<FootPoints> feet, double eval_rate, const FootSlidingOptions& sliding,
+                  MomentumOperator momentum = MomentumOperator::kTree);
 
   const Model& model() const { return workspace_.model(); }
   double evalRate() const { return eval_rate_; }
@@ -66,6 +76,7 @@ class MotionEvaluator {
 
  private:
   Workspace workspace_;
+  MomentumOperator momentum_;
   std::vector<FootPoints> feet_;
   double eval_rate_;
   FootSlidingOptions sliding_;

@@ -14,10 +14,15 @@
 //
 // Random numbers come from splitmix64 seeded with (seed, segment index) and
 // turned into doubles by bit arithmetic, so the same seed gives the same
-// numbers on every platform and in any segment order.
+// numbers on every platform and in any segment order. The coefficients are
+// drawn before any reconstruction runs, and each reconstruction is evaluated
+// on its own by whichever thread takes it, so the numbers do not depend on
+// the number of threads either.
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -42,8 +47,23 @@ struct MonteCarloSummary {
   nlohmann::json ToJson() const;
 };
 
-// `times`: the motion's frame times of the segment [start_frame, end_frame). `heading_frame`: the segment's
-// base velocities are in the pelvis heading frame (synergies of all velocities on a free base).
+struct MonteCarloSegment {
+  const TrialSynergies::Segment* segment = nullptr;
+  std::vector<double> times;  // the motion's frame times of the segment [start_frame, end_frame)
+  int64_t index = 0;          // the segment's index in its trial: seeds its random numbers
+};
+
+// Every segment's original, rank-k and perturbed reconstructions, spread over `evaluators` (one thread
+// each; all on the same model and options). `heading_frame`: the segments' base velocities are in the
+// pelvis heading frame (synergies of all velocities on a free base). One summary per segment, in order.
+// `alongside`, when given, runs first as one more task on one of the evaluators (syn-evaluate's whole-trial
+// metrics), so it overlaps the reconstructions instead of preceding them.
+[[nodiscard]] std::vector<MonteCarloSummary> RunMonteCarlo(
+    std::span<MotionEvaluator> evaluators, const std::vector<MonteCarloSegment>& segments, bool heading_frame,
+    double grid_origin, const MonteCarloOptions& options,
+    const std::function<void(MotionEvaluator&)>& alongside = nullptr);
+
+// One segment on one thread. `times`: the motion's frame times of the segment [start_frame, end_frame).
 [[nodiscard]] MonteCarloSummary RunSegmentMonteCarlo(MotionEvaluator& evaluator, const TrialSynergies::Segment& segment,
                                                      const std::vector<double>& times, bool heading_frame,
                                                      double grid_origin, int64_t segment_index,

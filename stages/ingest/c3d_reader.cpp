@@ -1,5 +1,6 @@
 #include "stages/ingest/c3d_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -49,6 +50,8 @@ struct Parameter {
   const uint8_t* data = nullptr;
   size_t data_size = 0;
   size_t offset = 0;
+  bool locked = false;           // negative name length
+  std::string description;
 
   size_t count() const {
     size_t n = 1;
@@ -71,16 +74,89 @@ std::string TrimRight(std::string text) {
   return text.substr(start);
 }
 
+// One record of the parameter section: a group (negative id) or a parameter (positive id).
+//   byte 0: name length (signed char; negative = "locked", the length is its absolute value)
+//   byte 1: group id (signed char)
+//   name, then int16 'offset to next' (processor byte order) counted from the offset's own first byte
+//   parameters only: type (signed char: -1 char, 1 byte, 2 int16, 4 float), dimension count, dimensions (bytes)
+//   data, then description length (byte) and description
+struct Record {
+  int group = 0;
+  std::string name;
+  bool locked = false;
+  std::string description;
+  size_t offset_at = 0;  // byte offset of 'offset to next'
+  int next_offset = 0;
+  bool parameter_ok = false;
+  Parameter parameter;
+};
+
+enum class RecordRead { kRecord, kEnd, kRunsPast };
+
+RecordRead ReadRecord(const uint8_t* bytes, size_t size, size_t position, size_t end, const Numbers& numbers,
+                      Record* record) {
+  const int name_length = std::abs(static_cast<int8_t>(bytes[position]));
+  record->locked = static_cast<int8_t>(bytes[position]) < 0;
+  record->group = static_cast<int8_t>(bytes[position + 1]);
+  if (name_length == 0 || record->group == 0) return RecordRead::kEnd;
+  const size_t name_at = position + 2;
+  if (name_at + static_cast<size_t>(name_length) + 2 > end) return RecordRead::kRunsPast;
+  record->name = Upper(std::string(reinterpret_cast<const char*>(bytes + name_at), static_cast<size_t>(name_length)));
+  record->offset_at = name_at + static_cast<size_t>(name_length);
+  record->next_offset = numbers.int16(bytes + record->offset_at);
+  const size_t body = record->offset_at + 2;
+  // Description: a length byte and that many characters, after the offset (groups) or the data (parameters),
+  // within the record. OptiTrack Motive leaves both out: its next record starts right after the data.
+  const size_t record_end = record->next_offset > 0 ? std::min(end, record->offset_at + static_cast<size_t>(record->next_offset)) : end;
+  const auto read_description = [&](size_t at) {
+    if (at + 1 > record_end) return;
+    const size_t length = bytes[at];
+    if (at + 1 + length <= record_end) record->description = TrimRight(std::string(reinterpret_cast<const char*>(bytes + at + 1), length));
+  };
+  if (record->group < 0) {
+    read_description(body);
+    return RecordRead::kRecord;
+  }
+  Parameter& parameter = record->parameter;
+  parameter.offset = position;
+  record->parameter_ok = false;
+  if (body + 2 > end) return RecordRead::kRecord;
+  parameter.type = static_cast<int8_t>(bytes[body]);
+  const int dimension_count = bytes[body + 1];
+  if ((parameter.type != -1 && parameter.type != 1 && parameter.type != 2 && parameter.type != 4) ||
+      body + 2 + static_cast<size_t>(dimension_count) > end) {
+    return RecordRead::kRecord;
+  }
+  for (int d = 0; d < dimension_count; ++d) parameter.dimensions.push_back(bytes[body + 2 + static_cast<size_t>(d)]);
+  parameter.data = bytes + body + 2 + dimension_count;
+  parameter.data_size = parameter.count() * static_cast<size_t>(std::abs(parameter.type));
+  record->parameter_ok = static_cast<size_t>(parameter.data - bytes) + parameter.data_size <= size;
+  parameter.locked = record->locked;
+  if (record->parameter_ok) read_description(static_cast<size_t>(parameter.data - bytes) + parameter.data_size);
+  parameter.description = record->description;
+  return RecordRead::kRecord;
+}
+
+// The section ends where the data begins (when the data comes after it), else at the end of the file.
+// Its own block count (byte 3 of its 4-byte header: reserved, key 0x50, block count, processor) is a
+// lower bound only: Qualisys writes one smaller than what it uses.
+size_t ParameterSectionEnd(const uint8_t* bytes, size_t size, size_t start, size_t data_start) {
+  const size_t blocks = bytes[start + 2];
+  return std::min(size, std::max(start + std::max<size_t>(blocks, 1) * kBlock, data_start > start ? data_start : size));
+}
+
 // Parses the parameter section, following each record's "offset to next".
 // A corrupt section ends the walk with a warning: what was read is kept.
+struct Group {
+  bool locked = false;
+  std::string description;
+};
+
 Parameters ReadParameters(const uint8_t* bytes, size_t size, size_t start, size_t data_start, const Numbers& numbers,
-                          std::vector<std::string>& warnings, const std::string& source) {
+                          std::vector<std::string>& warnings, std::map<std::string, Group>* groups = nullptr) {
   Parameters parameters;
   if (start + 4 > size) return parameters;
-  // The section ends where the data begins (when the data comes after it), else at the end of the file.
-  // Its own block count (byte 1) is not trusted: Qualisys writes one smaller than what it uses.
-  const size_t blocks = bytes[start + 1];
-  const size_t end = std::min(size, std::max(start + std::max<size_t>(blocks, 1) * kBlock, data_start > start ? data_start : size));
+  const size_t end = ParameterSectionEnd(bytes, size, start, data_start);
   std::map<int, std::string> group_names;
   struct Pending {
     int group;
@@ -90,48 +166,27 @@ Parameters ReadParameters(const uint8_t* bytes, size_t size, size_t start, size_
   std::vector<Pending> pending;
   size_t position = start + 4;
   for (int guard = 0; guard < 100000 && position + 2 <= end; ++guard) {
-    const int name_length = std::abs(static_cast<int8_t>(bytes[position]));
-    const int group = static_cast<int8_t>(bytes[position + 1]);
-    if (name_length == 0 || group == 0) break;
-    const size_t name_at = position + 2;
-    if (name_at + static_cast<size_t>(name_length) + 2 > end) {
+    Record record;
+    const RecordRead read = ReadRecord(bytes, size, position, end, numbers, &record);
+    if (read == RecordRead::kEnd) break;
+    if (read == RecordRead::kRunsPast) {
       warnings.push_back("parameter section: record at byte offset " + std::to_string(position) +
                          " runs past the section; stopped reading parameters there");
       break;
     }
-    const std::string name = Upper(std::string(reinterpret_cast<const char*>(bytes + name_at), static_cast<size_t>(name_length)));
-    const size_t offset_at = name_at + static_cast<size_t>(name_length);
-    const int next_offset = numbers.int16(bytes + offset_at);
-    const size_t body = offset_at + 2;
-    if (group < 0) {
-      group_names[-group] = name;
+    if (record.group < 0) {
+      group_names[-record.group] = record.name;
+      if (groups) (*groups)[record.name] = {record.locked, record.description};
+    } else if (record.parameter_ok) {
+      pending.push_back({record.group, record.name, record.parameter});
     } else {
-      Parameter parameter;
-      parameter.offset = position;
-      bool ok = body + 2 <= end;
-      if (ok) {
-        parameter.type = static_cast<int8_t>(bytes[body]);
-        const int dimension_count = bytes[body + 1];
-        ok = (parameter.type == -1 || parameter.type == 1 || parameter.type == 2 || parameter.type == 4) &&
-             body + 2 + static_cast<size_t>(dimension_count) <= end;
-        if (ok) {
-          for (int d = 0; d < dimension_count; ++d) parameter.dimensions.push_back(bytes[body + 2 + static_cast<size_t>(d)]);
-          parameter.data = bytes + body + 2 + dimension_count;
-          parameter.data_size = parameter.count() * static_cast<size_t>(std::abs(parameter.type));
-          ok = static_cast<size_t>(parameter.data - bytes) + parameter.data_size <= size;
-        }
-      }
-      if (ok) {
-        pending.push_back({group, name, parameter});
-      } else {
-        warnings.push_back("parameter " + name + " at byte offset " + std::to_string(position) +
-                           " is malformed or runs past the file; ignored");
-      }
+      warnings.push_back("parameter " + record.name + " at byte offset " + std::to_string(position) +
+                         " is malformed or runs past the file; ignored");
     }
-    if (next_offset <= 0) break;  // last record
-    const size_t next = offset_at + static_cast<size_t>(next_offset);
+    if (record.next_offset <= 0) break;  // last record
+    const size_t next = record.offset_at + static_cast<size_t>(record.next_offset);
     if (next <= position || next >= end) {
-      warnings.push_back("parameter section: 'offset to next' at byte offset " + std::to_string(offset_at) +
+      warnings.push_back("parameter section: 'offset to next' at byte offset " + std::to_string(record.offset_at) +
                          " points outside the section; stopped reading parameters there");
       break;
     }
@@ -142,7 +197,6 @@ Parameters ReadParameters(const uint8_t* bytes, size_t size, size_t start, size_
     if (group == group_names.end()) continue;
     parameters[group->second + ":" + entry.name] = entry.parameter;
   }
-  (void)source;
   return parameters;
 }
 
@@ -261,86 +315,131 @@ void ReadRotations(const uint8_t* bytes, size_t size, const Parameters& paramete
   }
 }
 
-}  // namespace
+// ---- the steps of ParseC3d, in file order ----------------------------------
 
-MarkerData ParseC3d(const uint8_t* bytes, size_t size, const std::string& source_name) {
-  const auto fail = [&](size_t offset, const std::string& message) {
-    return DataError(Location::AtByte(source_name, static_cast<int64_t>(offset)), message);
-  };
-  if (size < kBlock) throw fail(0, "a C3D file has at least one 512-byte header block; this one has " + std::to_string(size) + " bytes");
-  const size_t parameter_block = bytes[0];
-  if (bytes[1] != 0x50 && parameter_block < 2) throw fail(1, "not a C3D file: expected the key byte 0x50 at offset 1");
-  MarkerData data;
-  // Processor type: byte 4 of the parameter section (83 + type). Without a
-  // parameter section (or a garbled one), guess Intel, the common case.
+// The header block's fields (1-based word n sits at byte 2(n-1)); numbers in the processor's byte order.
+struct Header {
+  size_t points = 0;            // word 2
+  size_t analog_per_frame = 0;  // word 3: analog samples per 3D frame, all channels
+  size_t first_frame = 0;       // word 4
+  size_t last_frame = 0;        // word 5
+  float scale = 0;              // words 7-8: negative = float storage
+  size_t data_block = 0;        // word 9
+  float rate = 0;               // words 11-12
+};
+
+// Where the parameter section is and which processor wrote the file (byte 4 of the section: 83 + type).
+// Without a parameter section (or a garbled one), guess Intel, the common case.
+struct Layout {
   Numbers numbers;
-  const size_t parameter_start = parameter_block >= 2 ? (parameter_block - 1) * kBlock : 0;
-  bool has_parameters = parameter_start >= kBlock && parameter_start + 4 <= size;
-  if (has_parameters) {
-    const int processor = bytes[parameter_start + 3];
-    if (processor == 84 || processor == 85 || processor == 86) {
-      numbers.processor = static_cast<Processor>(processor);
-    } else {
-      data.warnings.push_back("processor type byte " + std::to_string(processor) + " at byte offset " +
-                              std::to_string(parameter_start + 3) + " is not 84/85/86: no parameter section; using the header only");
-      has_parameters = false;
-    }
+  size_t parameter_start = 0;
+  bool has_parameters = false;
+};
+
+Layout FindParameterSection(const uint8_t* bytes, size_t size, std::vector<std::string>& warnings) {
+  Layout layout;
+  const size_t parameter_block = bytes[0];
+  layout.parameter_start = parameter_block >= 2 ? (parameter_block - 1) * kBlock : 0;
+  layout.has_parameters = layout.parameter_start >= kBlock && layout.parameter_start + 4 <= size;
+  if (!layout.has_parameters) {
+    warnings.push_back("no parameter section: using the header only");
+    return layout;
+  }
+  const int processor = bytes[layout.parameter_start + 3];
+  if (processor == 84 || processor == 85 || processor == 86) {
+    layout.numbers.processor = static_cast<Processor>(processor);
   } else {
-    data.warnings.push_back("no parameter section: using the header only");
+    warnings.push_back("processor type byte " + std::to_string(processor) + " at byte offset " +
+                       std::to_string(layout.parameter_start + 3) +
+                       " is not 84/85/86: no parameter section; using the header only");
+    layout.has_parameters = false;
   }
+  return layout;
+}
 
-  // Header words (1-based word n sits at byte 2(n-1)).
+Header ReadHeader(const uint8_t* bytes, const Numbers& numbers) {
   const auto word = [&](int n) { return numbers.uint16(bytes + 2 * (n - 1)); };
-  const size_t header_points = word(2);
-  const size_t header_analog_per_frame = word(3);
-  const size_t header_first = word(4);
-  const size_t header_last = word(5);
-  const float header_scale = numbers.float32(bytes + 12);
-  const size_t header_data_block = word(9);
-  const float header_rate = numbers.float32(bytes + 20);
+  Header header;
+  header.points = word(2);
+  header.analog_per_frame = word(3);
+  header.first_frame = word(4);
+  header.last_frame = word(5);
+  header.scale = numbers.float32(bytes + 12);
+  header.data_block = word(9);
+  header.rate = numbers.float32(bytes + 20);
+  return header;
+}
 
-  Parameters parameters;
-  if (has_parameters) {
-    parameters = ReadParameters(bytes, size, parameter_start, header_data_block >= 2 ? (header_data_block - 1) * kBlock : 0,
-                                numbers, data.warnings, source_name);
-  }
+// How the point data is stored: the parameters where they are usable, else the header.
+struct PointLayout {
+  size_t points = 0;
+  double scale = 0;  // negative: float storage
+  bool floats = false;
+  double rate = 0;
+  size_t data_start = 0;  // byte offset of frame 0
+};
 
-  // Points.
-  const double used = Number(parameters, "POINT:USED", numbers, static_cast<double>(header_points));
-  size_t points = static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(used)));
-  if (points != header_points) {
-    data.warnings.push_back("POINT:USED (" + std::to_string(points) + ") differs from the header (" +
-                            std::to_string(header_points) + "); using the header");
-    points = header_points;
+template <typename Fail>
+PointLayout ReadPointLayout(const Header& header, const Parameters& parameters, const Numbers& numbers, size_t size,
+                            std::vector<std::string>& warnings, const Fail& fail) {
+  PointLayout layout;
+  const double used = Number(parameters, "POINT:USED", numbers, static_cast<double>(header.points));
+  layout.points = static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(used)));
+  if (layout.points != header.points) {
+    warnings.push_back("POINT:USED (" + std::to_string(layout.points) + ") differs from the header (" +
+                       std::to_string(header.points) + "); using the header");
+    layout.points = header.points;
   }
-  double scale = Number(parameters, "POINT:SCALE", numbers, header_scale);
-  if (!std::isfinite(scale) || scale == 0) scale = header_scale;
-  const bool floats = scale < 0;
-  double rate = Number(parameters, "POINT:RATE", numbers, header_rate);
-  if (!(rate > 0) || !std::isfinite(rate)) rate = header_rate;
-  if (!(rate > 0) || !std::isfinite(rate)) throw fail(20, "no usable frame rate (header and POINT:RATE)");
-  data.rate_hz = rate;
-  size_t data_block = static_cast<size_t>(Number(parameters, "POINT:DATA_START", numbers, 0));
-  if (data_block < 2) data_block = header_data_block;
-  else if (data_block != header_data_block) data.warnings.push_back("POINT:DATA_START differs from the header; using the header");
-  data_block = header_data_block;
+  layout.scale = Number(parameters, "POINT:SCALE", numbers, header.scale);
+  if (!std::isfinite(layout.scale) || layout.scale == 0) layout.scale = header.scale;
+  layout.floats = layout.scale < 0;
+  layout.rate = Number(parameters, "POINT:RATE", numbers, header.rate);
+  if (!(layout.rate > 0) || !std::isfinite(layout.rate)) layout.rate = header.rate;
+  if (!(layout.rate > 0) || !std::isfinite(layout.rate)) throw fail(20, "no usable frame rate (header and POINT:RATE)");
+  const size_t stated_block = static_cast<size_t>(Number(parameters, "POINT:DATA_START", numbers, 0));
+  if (stated_block >= 2 && stated_block != header.data_block) {
+    warnings.push_back("POINT:DATA_START differs from the header; using the header");
+  }
+  const size_t data_block = header.data_block;
   if (data_block < 2) throw fail(16, "the header's data-start block (word 9) is " + std::to_string(data_block) + "; expected >= 2");
-  const size_t data_start = (data_block - 1) * kBlock;
-  if (data_start > size) throw fail(16, "the data section starts at byte " + std::to_string(data_start) + ", past the end of the file");
-
-  // Analog layout.
-  size_t analog_channels = static_cast<size_t>(std::max(0.0, Number(parameters, "ANALOG:USED", numbers, 0)));
-  size_t analog_per_frame = header_analog_per_frame;
-  size_t analog_subframes = 0;
-  if (analog_channels > 0 && analog_per_frame % analog_channels == 0) analog_subframes = analog_per_frame / analog_channels;
-  if (analog_channels > 0 && analog_subframes == 0) {
-    data.warnings.push_back("ANALOG:USED does not divide the header's analog samples per frame; analog data ignored");
-    analog_channels = 0;
+  layout.data_start = (data_block - 1) * kBlock;
+  if (layout.data_start > size) {
+    throw fail(16, "the data section starts at byte " + std::to_string(layout.data_start) + ", past the end of the file");
   }
-  if (analog_channels == 0) analog_subframes = 0;
+  return layout;
+}
 
-  // Frames: header (16-bit), or TRIAL:ACTUAL_*_FIELD for long trials; then what the file holds.
-  size_t frames = header_last >= header_first ? header_last - header_first + 1 : 0;
+// Analog channels and subframes per 3D frame; analog data the parameters cannot explain is dropped.
+struct AnalogLayout {
+  size_t channels = 0;
+  size_t subframes = 0;
+};
+
+AnalogLayout ReadAnalogLayout(const Header& header, const Parameters& parameters, const Numbers& numbers,
+                              std::vector<std::string>& warnings) {
+  AnalogLayout layout;
+  layout.channels = static_cast<size_t>(std::max(0.0, Number(parameters, "ANALOG:USED", numbers, 0)));
+  if (layout.channels > 0 && header.analog_per_frame % layout.channels == 0) {
+    layout.subframes = header.analog_per_frame / layout.channels;
+  }
+  if (layout.channels > 0 && layout.subframes == 0) {
+    warnings.push_back("ANALOG:USED does not divide the header's analog samples per frame; analog data ignored");
+    layout.channels = 0;
+  }
+  if (layout.channels == 0) layout.subframes = 0;
+  return layout;
+}
+
+// Bytes per frame: the layout comes from the header alone (analog values we cannot interpret still
+// take their place).
+size_t FrameBytes(const Header& header, const PointLayout& points) {
+  return (points.points * 4 + header.analog_per_frame) * (points.floats ? 4 : 2);
+}
+
+// Frames: header (16-bit), or TRIAL:ACTUAL_*_FIELD for long trials, or POINT:FRAMES; then what the file holds.
+size_t CountFrames(const Header& header, const Parameters& parameters, const Numbers& numbers, const PointLayout& points,
+                   size_t size, std::vector<std::string>& warnings) {
+  size_t frames = header.last_frame >= header.first_frame ? header.last_frame - header.first_frame + 1 : 0;
   const std::vector<double> start_field = Numbers_(parameters, "TRIAL:ACTUAL_START_FIELD", numbers);
   const std::vector<double> end_field = Numbers_(parameters, "TRIAL:ACTUAL_END_FIELD", numbers);
   if (start_field.size() >= 2 && end_field.size() >= 2) {
@@ -352,38 +451,31 @@ MarkerData ParseC3d(const uint8_t* bytes, size_t size, const std::string& source
     if (last >= first && last - first + 1 > frames) frames = last - first + 1;
   }
   const double point_frames = Number(parameters, "POINT:FRAMES", numbers, -1);
-  const size_t value_bytes = floats ? 4 : 2;
-  // The frame layout comes from the header alone: analog values we cannot interpret still take their place.
-  const size_t frame_bytes = (points * 4 + header_analog_per_frame) * value_bytes;
-  if (frame_bytes == 0) {
-    // No points and no analog (Theia's ROTATION-only files): the header's frame count still times the trial.
-  } else {
-    const size_t available = (size - data_start) / frame_bytes;
-    if (point_frames > 0) {
-      const size_t stated = static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(point_frames)));
-      if (stated > frames && stated <= available) {
-        data.warnings.push_back("header says " + std::to_string(frames) + " frames, POINT:FRAMES " +
-                                std::to_string(stated) + ", and the file holds them: using " + std::to_string(stated));
-        frames = stated;
-      } else if (stated > frames) {
-        // c3d.org sample13 (Dance): header 499, POINT:FRAMES 500, and the file holds exactly 499.
-        data.warnings.push_back("POINT:FRAMES says " + std::to_string(stated) + " but the file holds " +
-                                std::to_string(std::min(available, frames)) + " frames, as the header says: using the header");
-      }
-    }
-    if (available < frames) {
-      data.warnings.push_back("the data section holds " + std::to_string(available) + " complete frames of the " +
-                              std::to_string(frames) + " declared (truncated file); reading those");
-      frames = available;
+  const size_t frame_bytes = FrameBytes(header, points);
+  if (frame_bytes == 0) return frames;  // No points and no analog (Theia's ROTATION-only files): the header times the trial.
+  const size_t available = (size - points.data_start) / frame_bytes;
+  if (point_frames > 0) {
+    const size_t stated = static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(point_frames)));
+    if (stated > frames && stated <= available) {
+      warnings.push_back("header says " + std::to_string(frames) + " frames, POINT:FRAMES " + std::to_string(stated) +
+                         ", and the file holds them: using " + std::to_string(stated));
+      frames = stated;
+    } else if (stated > frames) {
+      // c3d.org sample13 (Dance): header 499, POINT:FRAMES 500, and the file holds exactly 499.
+      warnings.push_back("POINT:FRAMES says " + std::to_string(stated) + " but the file holds " +
+                         std::to_string(std::min(available, frames)) + " frames, as the header says: using the header");
     }
   }
+  if (available < frames) {
+    warnings.push_back("the data section holds " + std::to_string(available) + " complete frames of the " +
+                       std::to_string(frames) + " declared (truncated file); reading those");
+    frames = available;
+  }
+  return frames;
+}
 
-  // Labels and units.
-  std::vector<std::string> labels = ConcatenatedStrings(parameters, "POINT", "LABELS");
-  labels.resize(points);
-  for (size_t i = 0; i < points; ++i) {
-    if (labels[i].empty()) labels[i] = "Point" + std::to_string(i + 1);
-  }
+// POINT:UNITS (length unit) and POINT:Y_SCREEN (the up axis; Z when absent).
+void ReadUnitsAndAxis(const Parameters& parameters, MarkerData& data) {
   const std::vector<std::string> units = Strings(parameters, "POINT:UNITS");
   data.length_unit_to_m = 0.001;
   if (!units.empty()) {
@@ -403,76 +495,106 @@ MarkerData ParseC3d(const uint8_t* bytes, size_t size, const std::string& source
     const char axis = static_cast<char>(std::tolower(static_cast<unsigned char>(y_screen[0][1])));
     if (axis == 'x' || axis == 'y' || axis == 'z') data.up_axis = axis;
   }
+}
 
-  // Computed points (angles, forces ...) are not markers.
+// Where each stored point goes: markers to data.labels / points, computed points (angles, forces ...)
+// to data.computed_labels / computed_points.
+struct PointSlots {
+  std::vector<size_t> destination;  // slot of each stored point in points / computed_points
+  std::vector<bool> is_computed;
+};
+
+PointSlots SortPoints(const Parameters& parameters, size_t points, MarkerData& data) {
+  std::vector<std::string> labels = ConcatenatedStrings(parameters, "POINT", "LABELS");
+  labels.resize(points);
+  for (size_t i = 0; i < points; ++i) {
+    if (labels[i].empty()) labels[i] = "Point" + std::to_string(i + 1);
+  }
   std::map<std::string, std::string> computed_kind;
   for (const auto& [group_key, kind] : std::vector<std::pair<std::string, std::string>>{
            {"ANGLES", "angle"}, {"FORCES", "force"}, {"MOMENTS", "moment"}, {"POWERS", "power"},
            {"SCALARS", "scalar"}, {"REACTIONS", "reaction"}}) {
     for (const std::string& label : ConcatenatedStrings(parameters, "POINT", group_key)) computed_kind[label] = kind;
   }
-  std::vector<size_t> marker_index, computed_index;
+  PointSlots slots;
+  slots.destination.resize(points);
+  slots.is_computed.assign(points, false);
   for (size_t i = 0; i < points; ++i) {
     const auto kind = computed_kind.find(labels[i]);
     if (kind != computed_kind.end() && !labels[i].empty()) {
-      computed_index.push_back(i);
+      slots.destination[i] = data.computed_labels.size();
+      slots.is_computed[i] = true;
       data.computed_labels.push_back(labels[i]);
       data.computed_kinds.push_back(kind->second);
     } else {
-      marker_index.push_back(i);
+      slots.destination[i] = data.labels.size();
       data.labels.push_back(labels[i]);
     }
   }
+  return slots;
+}
 
-  // Analog scaling.
+// Analog labels, units and the scaling raw -> physical: (raw - offset) * scale * general scale.
+struct AnalogScaling {
+  std::vector<double> scale, offset;
+  double general_scale = 1.0;
+  bool unsigned_values = false;
+};
+
+AnalogScaling ReadAnalogChannels(const Parameters& parameters, const Numbers& numbers, const AnalogLayout& analog,
+                                 double rate, MarkerData& data) {
+  AnalogScaling scaling;
   std::vector<std::string> analog_labels = ConcatenatedStrings(parameters, "ANALOG", "LABELS");
   std::vector<std::string> analog_units = ConcatenatedStrings(parameters, "ANALOG", "UNITS");
-  std::vector<double> analog_scale = Numbers_(parameters, "ANALOG:SCALE", numbers);
-  std::vector<double> analog_offset = Numbers_(parameters, "ANALOG:OFFSET", numbers);
+  scaling.scale = Numbers_(parameters, "ANALOG:SCALE", numbers);
+  scaling.offset = Numbers_(parameters, "ANALOG:OFFSET", numbers);
   for (int k = 2; k < 10; ++k) {
     const std::vector<double> more_scale = Numbers_(parameters, "ANALOG:SCALE" + std::to_string(k), numbers);
-    analog_scale.insert(analog_scale.end(), more_scale.begin(), more_scale.end());
+    scaling.scale.insert(scaling.scale.end(), more_scale.begin(), more_scale.end());
     const std::vector<double> more_offset = Numbers_(parameters, "ANALOG:OFFSET" + std::to_string(k), numbers);
-    analog_offset.insert(analog_offset.end(), more_offset.begin(), more_offset.end());
+    scaling.offset.insert(scaling.offset.end(), more_offset.begin(), more_offset.end());
   }
-  const double general_scale = Number(parameters, "ANALOG:GEN_SCALE", numbers, 1.0);
+  scaling.general_scale = Number(parameters, "ANALOG:GEN_SCALE", numbers, 1.0);
   const std::vector<std::string> analog_format = Strings(parameters, "ANALOG:FORMAT");
-  const bool unsigned_analog = !analog_format.empty() && Upper(analog_format[0]) == "UNSIGNED";
-  if (analog_channels > 0) {
-    analog_labels.resize(analog_channels);
-    analog_units.resize(analog_channels);
-    for (size_t c = 0; c < analog_channels; ++c) {
-      if (analog_labels[c].empty()) analog_labels[c] = "Channel" + std::to_string(c + 1);
-    }
-    analog_scale.resize(analog_channels, 1.0);
-    analog_offset.resize(analog_channels, 0.0);
-    for (double& offset : analog_offset) {
-      if (unsigned_analog && offset < 0) offset += 65536.0;
-    }
-    data.analog_labels = analog_labels;
-    data.analog_units = analog_units;
-    data.analog_rate_hz = rate * static_cast<double>(analog_subframes);
+  scaling.unsigned_values = !analog_format.empty() && Upper(analog_format[0]) == "UNSIGNED";
+  if (analog.channels == 0) return scaling;
+  analog_labels.resize(analog.channels);
+  analog_units.resize(analog.channels);
+  for (size_t c = 0; c < analog.channels; ++c) {
+    if (analog_labels[c].empty()) analog_labels[c] = "Channel" + std::to_string(c + 1);
   }
+  scaling.scale.resize(analog.channels, 1.0);
+  scaling.offset.resize(analog.channels, 0.0);
+  for (double& offset : scaling.offset) {
+    if (scaling.unsigned_values && offset < 0) offset += 65536.0;
+  }
+  data.analog_labels = analog_labels;
+  data.analog_units = analog_units;
+  data.analog_rate_hz = rate * static_cast<double>(analog.subframes);
+  return scaling;
+}
 
-  // Data section: one tight loop per storage kind.
+// The data section: one tight loop over frames, points, then analog subframes.
+void ReadFrames(const uint8_t* bytes, const Numbers& numbers, const Header& header, const PointLayout& layout,
+                const AnalogLayout& analog, const AnalogScaling& scaling, const PointSlots& slots, size_t frames,
+                MarkerData& data) {
+  const size_t points = layout.points;
   const size_t markers = data.labels.size();
   const size_t computed = data.computed_labels.size();
+  const size_t value_bytes = layout.floats ? 4 : 2;
+  const size_t frame_bytes = FrameBytes(header, layout);
   data.time_s.resize(frames);
   data.points.assign(frames * markers * 3, std::nan(""));
   data.computed_points.assign(frames * computed * 3, std::nan(""));
-  data.analog.assign(frames * analog_subframes * analog_channels, 0.0);
-  std::vector<size_t> destination(points);  // slot of each stored point in points / computed_points
-  std::vector<bool> is_computed(points, false);
-  for (size_t k = 0; k < marker_index.size(); ++k) destination[marker_index[k]] = k;
-  for (size_t k = 0; k < computed_index.size(); ++k) destination[computed_index[k]] = k, is_computed[computed_index[k]] = true;
-  const double integer_scale = std::abs(scale);
+  data.analog.assign(frames * analog.subframes * analog.channels, 0.0);
+  const double integer_scale = std::abs(layout.scale);
   for (size_t t = 0; t < frames; ++t) {
-    data.time_s[t] = static_cast<double>(t) / rate;
-    const uint8_t* frame = bytes + data_start + t * frame_bytes;
+    data.time_s[t] = static_cast<double>(t) / layout.rate;
+    const uint8_t* frame = bytes + layout.data_start + t * frame_bytes;
     for (size_t p = 0; p < points; ++p) {
       double x, y, z;
       bool valid;
-      if (floats) {
+      if (layout.floats) {
         const uint8_t* v = frame + p * 16;
         x = numbers.float32(v), y = numbers.float32(v + 4), z = numbers.float32(v + 8);
         const float residual = numbers.float32(v + 12);
@@ -484,21 +606,26 @@ MarkerData ParseC3d(const uint8_t* bytes, size_t size, const std::string& source
       }
       if (x == 0 && y == 0 && z == 0) valid = false;
       if (!valid) continue;
-      double* out = is_computed[p] ? &data.computed_points[(t * computed + destination[p]) * 3]
-                                   : &data.points[(t * markers + destination[p]) * 3];
+      double* out = slots.is_computed[p] ? &data.computed_points[(t * computed + slots.destination[p]) * 3]
+                                         : &data.points[(t * markers + slots.destination[p]) * 3];
       out[0] = x, out[1] = y, out[2] = z;
     }
-    const uint8_t* analog = frame + points * 4 * value_bytes;
-    for (size_t s = 0; s < analog_subframes; ++s) {
-      for (size_t c = 0; c < analog_channels; ++c) {
-        const uint8_t* v = analog + (s * analog_channels + c) * value_bytes;
-        const double raw = floats ? numbers.float32(v) : (unsigned_analog ? numbers.uint16(v) : numbers.int16(v));
-        data.analog[(t * analog_subframes + s) * analog_channels + c] = (raw - analog_offset[c]) * analog_scale[c] * general_scale;
+    const uint8_t* samples = frame + points * 4 * value_bytes;
+    for (size_t s = 0; s < analog.subframes; ++s) {
+      for (size_t c = 0; c < analog.channels; ++c) {
+        const uint8_t* v = samples + (s * analog.channels + c) * value_bytes;
+        const double raw = layout.floats ? numbers.float32(v)
+                                         : (scaling.unsigned_values ? numbers.uint16(v) : numbers.int16(v));
+        data.analog[(t * analog.subframes + s) * analog.channels + c] =
+            (raw - scaling.offset[c]) * scaling.scale[c] * scaling.general_scale;
       }
     }
   }
+}
 
-  // Events: EVENT group (times are minutes, seconds pairs).
+// Events: the EVENT group (times are minutes, seconds pairs); else the header's event section (words
+// 150-234: key 12345, count, up to 18 times as float seconds and 4-character labels).
+void ReadEvents(const uint8_t* bytes, const Parameters& parameters, const Numbers& numbers, MarkerData& data) {
   const std::vector<std::string> event_labels = Strings(parameters, "EVENT:LABELS");
   const std::vector<std::string> event_contexts = Strings(parameters, "EVENT:CONTEXTS");
   const std::vector<double> event_times = Numbers_(parameters, "EVENT:TIMES", numbers);
@@ -507,33 +634,98 @@ MarkerData ParseC3d(const uint8_t* bytes, size_t size, const std::string& source
     data.events.push_back({event_labels[e], e < event_contexts.size() ? event_contexts[e] : "",
                            event_times[2 * e] * 60.0 + event_times[2 * e + 1]});
   }
-
-  // Header events (words 150–234), used when the EVENT group is absent: key 12345, count, up to 18
-  // times (float seconds) and 4-character labels.
-  if (data.events.empty() && numbers.uint16(bytes + 298) == 12345) {
-    const size_t header_events = std::min<size_t>(numbers.uint16(bytes + 300), 18);
-    for (size_t e = 0; e < header_events; ++e) {
-      const double time = numbers.float32(bytes + 304 + 4 * e);
-      const std::string label = TrimRight(std::string(reinterpret_cast<const char*>(bytes + 396 + 4 * e), 4));
-      if (std::isfinite(time)) data.events.push_back({label, "header", time});
-    }
+  if (!data.events.empty() || numbers.uint16(bytes + 298) != 12345) return;
+  const size_t header_events = std::min<size_t>(numbers.uint16(bytes + 300), 18);
+  for (size_t e = 0; e < header_events; ++e) {
+    const double time = numbers.float32(bytes + 304 + 4 * e);
+    const std::string label = TrimRight(std::string(reinterpret_cast<const char*>(bytes + 396 + 4 * e), 4));
+    if (std::isfinite(time)) data.events.push_back({label, "header", time});
   }
+}
 
-  // Facts worth keeping.
+// Facts worth keeping: storage, the header's frame numbers, and whole parameter groups users ask for.
+void RecordMetadata(const Numbers& numbers, const Header& header, const PointLayout& layout,
+                    const Parameters& parameters, MarkerData& data) {
   nlohmann::json& meta = data.metadata["c3d"];
   meta["processor"] = numbers.processor == Processor::kIntel ? "intel" : numbers.processor == Processor::kDec ? "dec" : "mips";
-  meta["storage"] = floats ? "float" : "int16";
-  meta["scale"] = scale;
-  meta["header_first_frame"] = header_first;
-  meta["header_last_frame"] = header_last;
-  meta["points_in_file"] = points;
+  meta["storage"] = layout.floats ? "float" : "int16";
+  meta["scale"] = layout.scale;
+  meta["header_first_frame"] = header.first_frame;
+  meta["header_last_frame"] = header.last_frame;
+  meta["points_in_file"] = layout.points;
   for (const char* group : {"FORCE_PLATFORM", "SUBJECTS", "MANUFACTURER", "ROTATION"}) {
     for (const auto& [key, parameter] : parameters) {
-      if (key.rfind(std::string(group) + ":", 0) == 0) meta[group][key.substr(std::strlen(group) + 1)] = ParameterJson(parameter, parameters, key, numbers);
+      if (key.rfind(std::string(group) + ":", 0) == 0) {
+        meta[group][key.substr(std::strlen(group) + 1)] = ParameterJson(parameter, parameters, key, numbers);
+      }
     }
   }
+}
+
+}  // namespace
+
+MarkerData ParseC3d(const uint8_t* bytes, size_t size, const std::string& source_name) {
+  const auto fail = [&](size_t offset, const std::string& message) {
+    return DataError(Location::AtByte(source_name, static_cast<int64_t>(offset)), message);
+  };
+  if (size < kBlock) throw fail(0, "a C3D file has at least one 512-byte header block; this one has " + std::to_string(size) + " bytes");
+  if (bytes[1] != 0x50 && bytes[0] < 2) throw fail(1, "not a C3D file: expected the key byte 0x50 at offset 1");
+  MarkerData data;
+  const Layout layout = FindParameterSection(bytes, size, data.warnings);
+  const Numbers& numbers = layout.numbers;
+  const Header header = ReadHeader(bytes, numbers);
+  Parameters parameters;
+  if (layout.has_parameters) {
+    parameters = ReadParameters(bytes, size, layout.parameter_start,
+                                header.data_block >= 2 ? (header.data_block - 1) * kBlock : 0, numbers, data.warnings);
+  }
+  const PointLayout point_layout = ReadPointLayout(header, parameters, numbers, size, data.warnings, fail);
+  data.rate_hz = point_layout.rate;
+  const AnalogLayout analog = ReadAnalogLayout(header, parameters, numbers, data.warnings);
+  const size_t frames = CountFrames(header, parameters, numbers, point_layout, size, data.warnings);
+  const PointSlots slots = SortPoints(parameters, point_layout.points, data);
+  ReadUnitsAndAxis(parameters, data);
+  const AnalogScaling scaling = ReadAnalogChannels(parameters, numbers, analog, point_layout.rate, data);
+  ReadFrames(bytes, numbers, header, point_layout, analog, scaling, slots, frames, data);
+  ReadEvents(bytes, parameters, numbers, data);
+  RecordMetadata(numbers, header, point_layout, parameters, data);
   ReadRotations(bytes, size, parameters, numbers, frames, data);
   return data;
+}
+
+std::vector<C3dParameter> ParseC3dParameters(const uint8_t* bytes, size_t size, const std::string& source_name) {
+  if (size < kBlock) {
+    throw DataError(Location::AtByte(source_name, 0), "a C3D file has at least one 512-byte header block");
+  }
+  std::vector<std::string> warnings;
+  const Layout layout = FindParameterSection(bytes, size, warnings);
+  std::vector<C3dParameter> result;
+  if (!layout.has_parameters) return result;
+  const Header header = ReadHeader(bytes, layout.numbers);
+  std::map<std::string, Group> groups;
+  const Parameters parameters = ReadParameters(bytes, size, layout.parameter_start,
+                                               header.data_block >= 2 ? (header.data_block - 1) * kBlock : 0,
+                                               layout.numbers, warnings, &groups);
+  for (const auto& [name, group] : groups) {
+    C3dParameter entry;
+    entry.key = name + ":";
+    entry.locked = group.locked;
+    entry.description = group.description;
+    result.push_back(entry);
+  }
+  for (const auto& [key, parameter] : parameters) {
+    C3dParameter entry;
+    entry.key = key;
+    entry.type = parameter.type;
+    entry.dimensions = parameter.dimensions;
+    entry.locked = parameter.locked;
+    entry.description = parameter.description;
+    if (parameter.type == -1) entry.strings = Strings(parameters, key);
+    else entry.numbers = Numbers_(parameters, key, layout.numbers);
+    result.push_back(entry);
+  }
+  std::sort(result.begin(), result.end(), [](const C3dParameter& a, const C3dParameter& b) { return a.key < b.key; });
+  return result;
 }
 
 MarkerData ReadC3d(const std::string& path) {

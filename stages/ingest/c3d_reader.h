@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "common/marker_data.h"
 
@@ -23,5 +24,21 @@ namespace syn {
 // Throws DataError at a byte offset for what cannot be read at all.
 [[nodiscard]] MarkerData ParseC3d(const uint8_t* bytes, size_t size, const std::string& source_name);
 [[nodiscard]] MarkerData ReadC3d(const std::string& path);
+
+// One record of the parameter section, decoded in the file's processor format: a group (key "GROUP:",
+// type 0) or a parameter (key "GROUP:NAME"). For inspection and for checking that Intel, DEC and MIPS
+// copies of one trial agree field by field.
+struct C3dParameter {
+  std::string key;
+  int type = 0;                      // -1 char, 1 byte, 2 int16, 4 float; 0 for a group
+  std::vector<int> dimensions;
+  std::vector<double> numbers;       // types 1, 2, 4 (bytes unsigned, int16 signed)
+  std::vector<std::string> strings;  // type -1: first dimension = string length, trailing blanks removed
+  bool locked = false;               // a negative name length
+  std::string description;
+};
+// Sorted by key. Empty when the file has no readable parameter section.
+[[nodiscard]] std::vector<C3dParameter> ParseC3dParameters(const uint8_t* bytes, size_t size,
+                                                           const std::string& source_name);
 
 }  // namespace syn

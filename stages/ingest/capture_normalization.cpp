@@ -1,9 +1,13 @@
 #include "stages/ingest/capture_normalization.h"
 
+#include <cctype>
 #include <map>
 #include <set>
 
 #include <Eigen/Geometry>
+
+#include "common/text_encoding.h"
+#include "stages/ingest/up_axis.h"
 
 namespace syn {
 namespace {
@@ -55,14 +59,37 @@ void MakeUnique(std::vector<std::string>& names, const char* what, std::vector<s
   }
 }
 
+// Every text the file gave us becomes valid UTF-8 by the one rule of common/text_encoding.h (Latin-1
+// decoded, other stray bytes as \xNN), so labels, JSON metadata and HDF5 attributes agree.
+void MakeTextUtf8(MarkerData& data) {
+  for (std::vector<std::string>* names : {&data.labels, &data.computed_labels, &data.computed_kinds, &data.bodies,
+                                          &data.body_parents, &data.analog_labels, &data.analog_units, &data.warnings}) {
+    for (std::string& name : *names) name = ToUtf8(name);
+  }
+  for (CaptureEvent& event : data.events) event.label = ToUtf8(event.label), event.context = ToUtf8(event.context);
+  MakeJsonUtf8(data.metadata);
+}
+
 }  // namespace
 
 void NormalizeCapture(MarkerData& data, const NormalizationOptions& options) {
+  MakeTextUtf8(data);
   const double scale = options.length_unit_to_m > 0 ? options.length_unit_to_m : data.length_unit_to_m;
-  char up = options.up_axis == 'a' ? data.up_axis : options.up_axis;
-  if (up != 'x' && up != 'y' && up != 'z') {
-    data.warnings.push_back("the file does not say which axis is up; assuming Z (use --up-axis to override)");
-    up = 'z';
+  char up = options.up_axis;
+  std::string up_reason = "--up-axis " + std::string(1, up);
+  if (options.up_axis == 'a') {
+    const UpAxisDecision decision = DecideUpAxis(data, data.up_axis, scale);
+    up = decision.axis;
+    up_reason = decision.reason;
+    const bool has_convention = data.up_axis == 'x' || data.up_axis == 'y' || data.up_axis == 'z';
+    if (decision.from_data && has_convention && decision.axis != data.up_axis) {
+      data.warnings.push_back(std::string("the data says ") + static_cast<char>(std::toupper(up)) +
+                              " is up, not the format's " + static_cast<char>(std::toupper(data.up_axis)) + " (" +
+                              decision.reason + "); using " + static_cast<char>(std::toupper(up)) +
+                              " (use --up-axis to override)");
+    } else if (!decision.from_data && !has_convention) {
+      data.warnings.push_back("neither the file nor the data says which axis is up; assuming Z (use --up-axis to override)");
+    }
   }
   const Eigen::Matrix3d rotation = UpAxisToZ(up);
   TransformPositions(data.points, 3, scale, rotation);
@@ -70,6 +97,7 @@ void NormalizeCapture(MarkerData& data, const NormalizationOptions& options) {
   RotateOrientations(data.body_pose, Eigen::Quaterniond(rotation));
   data.metadata["ingest"]["length_unit_to_m"] = scale;
   data.metadata["ingest"]["original_up_axis"] = std::string(1, up);
+  data.metadata["ingest"]["up_axis_reason"] = up_reason;
   data.length_unit_to_m = 1.0;
   data.up_axis = 'z';
 

@@ -1,5 +1,6 @@
 #include "stages/ingest/ingest.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -114,7 +115,7 @@ std::string IngestSummary::BriefReport() const {
   std::ostringstream out;
   out << format << ": " << frames << " frames at " << rate_hz << " Hz, " << markers << " markers, " << bodies
       << " bodies, " << analog_channels << " analog channels; " << filled << " gaps filled, " << missing
-      << " marker samples missing";
+      << " marker samples missing; up axis " << static_cast<char>(std::toupper(up_axis)) << " (" << up_axis_reason << ")";
   return out.str();
 }
 
@@ -150,6 +151,8 @@ MarkerData IngestCapture(const std::string& path, const IngestOptions& options, 
     summary->bodies = static_cast<int64_t>(data.bodies.size());
     summary->analog_channels = static_cast<int64_t>(data.analog_labels.size());
     summary->rate_hz = data.rate_hz;
+    summary->up_axis = data.metadata["ingest"]["original_up_axis"].get<std::string>()[0];
+    summary->up_axis_reason = data.metadata["ingest"]["up_axis_reason"].get<std::string>();
     summary->gaps = std::move(gaps);
   }
   return data;

@@ -15,8 +15,10 @@ namespace syn {
 struct IngestOptions {
   // "auto" detects the format from the file's first bytes (DetectCaptureFormat).
   std::string format = "auto";
-  // "auto" trusts the format's convention (C3D: POINT:X_SCREEN/Y_SCREEN, else Z;
-  // TRC, Motive CSV, BVH, HumanML3D: Y).
+  // "auto" decides from the data (stages/ingest/up_axis.h: the body's largest extent, the floor where the
+  // lowest point stays) and falls back to the format's convention only when the data cannot tell (C3D:
+  // POINT:Y_SCREEN, else Z; TRC, Motive CSV, BVH, HumanML3D: Y); a disagreement with the convention is a
+  // warning. x / y / z force that axis.
   std::string up_axis = "auto";
   // "auto" trusts the file (C3D POINT:UNITS, TRC Units, Motive Length Units;
   // HumanML3D is metres; BVH has no unit, see bvh_scale).
@@ -45,6 +47,8 @@ struct IngestSummary {
   int64_t bodies = 0;
   int64_t analog_channels = 0;
   double rate_hz = 0.0;
+  char up_axis = 'z';             // the file's axis that became +Z
+  std::string up_axis_reason;     // why (data cues, the convention, or --up-axis)
   std::vector<MarkerGapReport> gaps;  // per marker
 
   std::string BriefReport() const;

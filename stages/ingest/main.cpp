@@ -18,8 +18,11 @@ int main(int argc, char** argv) {
   app.add_option("INPUT", input, "Capture file")->required();
   app.add_option("--format", options.format, "auto | c3d | motive-csv | trc | bvh | npy")->capture_default_str();
   app.add_option("--up-axis", options.up_axis,
-                 "auto | x | y | z: the file's vertical axis. auto: C3D POINT:Y_SCREEN (else Z); TRC, Motive CSV, "
-                 "BVH and HumanML3D are Y up")
+                 "auto | x | y | z: the file's vertical axis. auto: decided from the data (the axis of the body's "
+                 "largest extent, and the axis along which the lowest point stays at floor height while the subject "
+                 "travels); when the data cannot tell (or the two cues disagree, e.g. lying on the floor), the "
+                 "format's convention: C3D POINT:Y_SCREEN (else Z); TRC, Motive CSV, BVH and HumanML3D Y. The summary "
+                 "line says which axis and why; a data choice against the convention is a warning")
       ->capture_default_str();
   app.add_option("--units", options.units, "auto | mm | cm | m: the file's length unit (auto: as the file says)")
       ->capture_default_str();
@@ -42,7 +45,7 @@ int main(int argc, char** argv) {
 
     syn::IngestSummary summary;
     const syn::MarkerData data = syn::IngestCapture(input, options, &summary);
-    for (const std::string& warning : data.warnings) std::cerr << "syn-ingest: warning: " << input << ": " << warning << "\n";
+    for (const std::string& warning : data.warnings) std::cerr << "syn-ingest: warning: " << input << ": " << syn::Printable(warning) << "\n";
 
     syn::Provenance provenance;
     provenance.schema = syn::kMarkersSchema;

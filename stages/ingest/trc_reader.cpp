@@ -45,11 +45,23 @@ MarkerData ParseTrc(std::string_view text, const std::string& source_name) {
   if (line.rfind("PathFileType", 0) != 0) throw fail("expected a TRC file starting with 'PathFileType'");
   need_line("header key row (DataRate CameraRate NumFrames NumMarkers Units ...)");
   SplitHeader(line, fields);
-  std::vector<std::string> keys(fields.begin(), fields.end());
+  std::vector<std::string> keys;
+  for (std::string_view key : fields) {
+    if (!key.empty()) keys.emplace_back(key);  // a run of tabs is one separator between keys
+  }
   need_line("header value row");
   SplitHeader(line, values);
   if (values.size() < keys.size()) throw fail("the header value row has " + std::to_string(values.size()) +
                                               " values for " + std::to_string(keys.size()) + " keys");
+  // OpenSim's own examples (Rajagopal 2015) pad the value row with runs of tabs and spaces
+  // ("100.0\t\t  100.0\t\t 238\t\t 41\t\t mm"): when the non-empty values alone match the keys one
+  // for one, a run of tabs is one separator. Otherwise values stay in their tab columns (an empty value
+  // then stays empty).
+  std::vector<std::string_view> non_empty;
+  for (std::string_view value : values) {
+    if (!value.empty()) non_empty.push_back(value);
+  }
+  if (values.size() != keys.size() && non_empty.size() == keys.size()) values = non_empty;
   std::map<std::string, std::string> header;
   for (size_t i = 0; i < keys.size(); ++i) header[keys[i]] = std::string(values[i]);
   const auto number_of = [&](const char* key, double fallback) {

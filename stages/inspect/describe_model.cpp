@@ -33,7 +33,8 @@ nlohmann::json DescribeModel(const std::string& urdf_path, const std::string& fl
           {"limits", limits},
           {"links", model.linkNames()},
           {"joints", joints},
-          {"warnings", model.warnings()}};
+          {"warnings", model.warnings()},
+          {"notes", model.notes()}};
 }
 
 }  // namespace syn

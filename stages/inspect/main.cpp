@@ -19,8 +19,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "free", "fixed"}));
   return syn::RunTool(app, argc, argv, [&] {
     const bool is_urdf = path.size() >= 5 && path.compare(path.size() - 5, 5, ".urdf") == 0;
-    const nlohmann::json description =
-        is_urdf ? syn::DescribeModel(path, floating_base) : syn::DescribeIntermediateFile(path);
+    nlohmann::json description = is_urdf ? syn::DescribeModel(path, floating_base) : syn::DescribeIntermediateFile(path);
+    syn::MakeJsonUtf8(description);  // names from files may be Latin-1 or garbage (common/text_encoding.h)
+    if (is_urdf) syn::PrintNotes("syn-inspect", description["notes"].get<std::vector<std::string>>(), common.verbose);
     std::cout << description.dump(2) << "\n";
   });
 }

@@ -10,6 +10,8 @@
 namespace syn {
 namespace {
 
+constexpr const char* kMappingKey = "mapping";
+
 class ManifestParser {
  public:
   ManifestParser(std::string path, const std::vector<StageParameterNames>& stages) : fields_(std::move(path)), stages_(stages) {}
@@ -32,6 +34,15 @@ class ManifestParser {
     return owner;
   }
 
+  // `mapping` (in [retarget] or a trial): "kinematic" or "osc".
+  std::string mapping(const toml::node& node) const {
+    const std::string value = fields_.text(node, kMappingKey);
+    if (value != "kinematic" && value != "osc") {
+      fields_.fail(node, "mapping must be \"kinematic\" or \"osc\", got \"" + value + "\"");
+    }
+    return value;
+  }
+
   nlohmann::json scalar(const toml::node& node, const std::string& key) const {
     if (const auto* value = node.as_string()) return value->get();
     if (const auto* value = node.as_integer()) return value->get();
@@ -45,6 +56,10 @@ class ManifestParser {
     if (!table) fields_.fail(node, "'" + stage.stage + "' must be a table of parameters");
     for (const auto& [key, value] : *table) {
       const std::string name(key.str());
+      if (stage.stage == "retarget" && name == kMappingKey) {  // syn-plan's own: which route the motion takes
+        into[name] = mapping(value);
+        continue;
+      }
       if (std::find(stage.names.begin(), stage.names.end(), name) == stage.names.end()) {
         std::string known;
         for (const std::string& parameter : stage.names) known += (known.empty() ? "" : ", ") + parameter;
@@ -120,6 +135,8 @@ class ManifestParser {
           trial.motion_class = fields_.text(value, name);
         } else if (name == "genre") {
           trial.genre = fields_.text(value, name);
+        } else if (name == kMappingKey) {
+          trial.parameters["retarget"][kMappingKey] = mapping(value);
         } else if (const StageParameterNames* stage_names = stage(name)) {
           addParameters(value, *stage_names, trial.parameters[name]);
         } else if (const StageParameterNames* owner = stageOwning(name)) {
@@ -129,6 +146,11 @@ class ManifestParser {
                                   "' (expected id, subject, file, style, motion_class, genre, a stage table, or a "
                                   "parameter name of one stage)");
         }
+      }
+      // The mapping chooses the plan's route; it is no parameter of syn-retarget.
+      if (auto found = trial.parameters.find("retarget"); found != trial.parameters.end() && found->second.contains(kMappingKey)) {
+        trial.mapping = found->second[kMappingKey].get<std::string>();
+        found->second.erase(kMappingKey);
       }
       if (trial.id.empty()) fields_.fail(trial.line, "a trial needs an 'id'");
       const bool id_ok = std::all_of(trial.id.begin(), trial.id.end(), [](char c) {

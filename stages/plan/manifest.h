@@ -17,6 +17,9 @@
 //   motion_class = "walk"
 //   ingest = { drop_first_frame = false }   # per-trial overrides, per stage
 //   up_axis = "y"                      # shorthand for a parameter only one stage has
+//   [retarget] mapping = "osc"         # kinematic (default): the retargeted motion goes on to segment;
+//                                      # osc: syn-simulate's dynamic mapping runs in between ([simulate]
+//                                      # holds its parameters, e.g. contact = "none"); per trial too
 #pragma once
 
 #include <map>
@@ -43,6 +46,8 @@ struct ManifestTrial {
   std::string style;
   std::string motion_class;
   std::string genre;
+  std::string mapping = "kinematic";  // "kinematic" or "osc" (syn-simulate between retarget and segment)
+  int mapping_line = 0;
   std::map<std::string, nlohmann::json> parameters;  // stage -> {name: value}, defaults merged with overrides
 };
 

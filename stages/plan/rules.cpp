@@ -110,11 +110,27 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
     plan.jobs.push_back(MakeJob(out, "ingest", trial.id, markers, {trial.path}, MakeEscaped(ShellWord(trial.path)), "",
                                 parameters_of("ingest"), trial.id + ".ingest"));
     if (!has_robot) continue;
-    plan.jobs.push_back(MakeJob(out, "retarget", trial.id, motion,
+    // The dynamic mapping (paper): syn-simulate turns the kinematic motion into the simulated one, and
+    // everything downstream reads the simulated motion under the same name.
+    const bool simulated = trial.mapping == "osc";
+    const std::string retargeted = simulated ? dir + "/kinematic_motion.h5" : motion;
+    plan.jobs.push_back(MakeJob(out, "retarget", trial.id, retargeted,
                                 {markers, manifest.model, manifest.robot_map, manifest.markerset}, markers,
                                 " --model " + model + " --robot-map " + MakeEscaped(ShellWord(manifest.robot_map)) +
                                     " --markerset " + MakeEscaped(ShellWord(manifest.markerset)),
                                 parameters_of("retarget"), trial.id + ".retarget"));
+    if (simulated) {
+      nlohmann::json simulate_parameters = parameters_of("simulate");
+      const nlohmann::json retarget_parameters = parameters_of("retarget");
+      // The simulation loads the model as the retargeting did.
+      if (!simulate_parameters.contains("floating_base") && retarget_parameters.contains("floating_base")) {
+        simulate_parameters["floating_base"] = retarget_parameters["floating_base"];
+      }
+      plan.jobs.push_back(MakeJob(out, "simulate", trial.id, motion, {retargeted, manifest.model, manifest.robot_map},
+                                  retargeted,
+                                  " --model " + model + " --robot-map " + MakeEscaped(ShellWord(manifest.robot_map)),
+                                  simulate_parameters, trial.id + ".simulate"));
+    }
     plan.jobs.push_back(MakeJob(out, "segment", trial.id, segments, {motion, manifest.model}, motion, " --model " + model,
                                 parameters_of("segment"), trial.id + ".segment"));
     // The trial's labels travel with its synergies into the libraries and summaries.

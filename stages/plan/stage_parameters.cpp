@@ -50,10 +50,13 @@ StageParameterNames Query(const std::string& bin_dir, const std::string& stage, 
 std::vector<StageParameterNames> QueryStageParameters(const std::string& bin_dir) {
   return {Query(bin_dir, "ingest", {}),
           Query(bin_dir, "retarget", {}),
+          Query(bin_dir, "simulate", {}),
           Query(bin_dir, "segment", {}),
           Query(bin_dir, "synergies", {"subject", "trial", "style", "motion_class"}),
           Query(bin_dir, "evaluate", {}),
-          Query(bin_dir, "library", {"style"})};
+          Query(bin_dir, "library", {"style"}),
+          // The subject of `make power-ratio`'s human model (syn-human): a manifest table, not a per-trial job.
+          StageParameterNames{"human", {"height", "mass", "sex"}}};
 }
 
 std::string OwnExecutableFolder() {

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   return syn::RunTool(app, argc, argv, [&] {
     const syn::Model model = syn::LoadModel(model_path, floating_base);
     syn::PrintWarnings("syn-project", model.warnings());
+    syn::PrintNotes("syn-project", model.notes(), common.verbose);
     const syn::RobotMap map = syn::LoadRobotMap(robot_map_path);
     int torso_link = -1;
     for (const syn::RobotTask& task : map.tasks) {

@@ -463,6 +463,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   RetargetSummary& report = summary ? *summary : local_summary;
   const Model& model = inputs.model;
   report.notes.insert(report.notes.end(), model.warnings().begin(), model.warnings().end());
+  report.notes.insert(report.notes.end(), model.notes().begin(), model.notes().end());
 
   const LandmarkTrajectories landmarks = ComputeLandmarks(inputs.capture, inputs.marker_set, inputs.capture_path);
   const int64_t frames = landmarks.frames;

@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);
     const syn::Model model = syn::LoadModel(model_path, floating_base);
     syn::PrintWarnings("syn-segment", model.warnings());
+    syn::PrintNotes("syn-segment", model.notes(), common.verbose);
     const syn::MotionData motion = syn::ReadMotionFile(input);
     const syn::Segmentation segmentation = syn::SegmentMotion(motion, model, options);
 

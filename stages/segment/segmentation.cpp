@@ -40,7 +40,7 @@ Segmentation SegmentMotion(const MotionData& motion, const Model& model, const S
   result.analysis_rate = options.analysis_rate;
   if (frames == 0) return result;
 
-  // The state at each analysis instant (linear between frames; a free base's orientation by slerp), then its momentum: one Simbody A·u per analysis sample, wherever the motion's frames fall.
+  // The state at each analysis instant (linear between frames; a free base's orientation by normalised lerp), then its momentum: one Simbody A·u per analysis sample, wherever the motion's frames fall.
   const int width = options.momentum == MomentumKind::kCentroidal ? 6 : static_cast<int>(nu);
   const ConfigurationShape shape = ConfigurationShape::Of(model.hasFreeBase(), static_cast<int>(nq));
   Workspace workspace(model);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 #include <unistd.h>
 
 #include "common/error.h"
@@ -61,6 +62,33 @@ double TrialPower(const nlohmann::json& metrics, const std::string& path) {
     throw DataError(Location::InFile(path), "has no trial.mean_power_w_per_kg (was the motion evaluated with its model?)");
   }
   return metrics["trial"]["mean_power_w_per_kg"].get<double>();
+}
+
+// The human's sagittal leg joint power (W/kg, both legs) from syn-evaluate's per-velocity breakdown,
+// when the model names its joints as syn-human does (left_/right_ hip_flexion, knee, ankle_flexion):
+// the joints whose share of the leg's power the biomechanics literature reports.
+struct SagittalLegPower {
+  double hip = 0, knee = 0, ankle = 0;
+  bool complete = false;  // all six velocities found
+};
+
+SagittalLegPower SagittalLegPowerOf(const nlohmann::json& metrics) {
+  SagittalLegPower legs;
+  if (!metrics.contains("trial") || !metrics["trial"].contains("power_by_velocity_w_per_kg")) return legs;
+  const nlohmann::json& by_velocity = metrics["trial"]["power_by_velocity_w_per_kg"];
+  int found = 0;
+  for (const char* side : {"left_", "right_"}) {
+    for (auto [joint, sum] : {std::pair<const char*, double*>{"hip_flexion", &legs.hip}, {"knee", &legs.knee},
+                              {"ankle_flexion", &legs.ankle}}) {
+      const std::string name = std::string(side) + joint;
+      if (by_velocity.contains(name) && by_velocity[name].is_number()) {
+        *sum += by_velocity[name].get<double>();
+        ++found;
+      }
+    }
+  }
+  legs.complete = found == 6;
+  return legs;
 }
 
 constexpr const char* kMetricColumns =
@@ -143,19 +171,32 @@ void WriteSummaryTable(const std::vector<std::string>& synergies_files, const st
 
 void WritePowerRatioTable(const std::vector<std::string>& synergies_files,
                           const std::vector<std::string>& robot_metrics_files,
-                          const std::vector<std::string>& human_metrics_files, const std::string& output) {
+                          const std::vector<std::string>& human_metrics_files, const std::string& output,
+                          const std::string& robot_name) {
   if (robot_metrics_files.size() != synergies_files.size() || human_metrics_files.size() != synergies_files.size()) {
     throw UsageError("give one robot and one human metrics file per synergies file, in the same order");
   }
+  if (robot_name.empty() || robot_name.find_first_of(",\"\n") != std::string::npos) {
+    throw UsageError("--robot-name must be a plain name");
+  }
   std::ostringstream text;
-  text << "trial,subject,motion_class,human_w_per_kg,robot_w_per_kg,robot_over_human\n";
+  text << "trial,subject,motion_class,robot,human_w_per_kg,robot_w_per_kg,robot_over_human,"
+          "human_hip_share,human_knee_share,human_ankle_share\n";
   for (size_t f = 0; f < synergies_files.size(); ++f) {
     SynergyLabels labels;
     (void)ReadTrialSynergies(synergies_files[f], &labels);
     const double robot = TrialPower(ReadMetrics(robot_metrics_files[f]), robot_metrics_files[f]);
-    const double human = TrialPower(ReadMetrics(human_metrics_files[f]), human_metrics_files[f]);
+    const nlohmann::json human_metrics = ReadMetrics(human_metrics_files[f]);
+    const double human = TrialPower(human_metrics, human_metrics_files[f]);
     text << Cell(labels.trial) << ',' << Cell(labels.subject) << ',' << Cell(labels.motion_class) << ','
-         << Number(human) << ',' << Number(robot) << ',' << (human > 0 ? Number(robot / human) : std::string()) << '\n';
+         << robot_name << ',' << Number(human) << ',' << Number(robot) << ','
+         << (human > 0 ? Number(robot / human) : std::string());
+    const SagittalLegPower legs = SagittalLegPowerOf(human_metrics);
+    const double total = legs.hip + legs.knee + legs.ankle;
+    for (double joint : {legs.hip, legs.knee, legs.ankle}) {
+      text << ',' << (legs.complete && total > 0 ? Number(joint / total) : std::string());
+    }
+    text << '\n';
   }
   WriteFileAtomically(output, text.str());
 }

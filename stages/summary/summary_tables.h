@@ -15,13 +15,15 @@ namespace syn {
 void WriteSummaryTable(const std::vector<std::string>& synergies_files, const std::vector<std::string>& metrics_files,
                        const std::string& table, const std::string& output);
 
-// Human-vs-robot mechanical power per trial: each trial retargeted onto a robot
-// and onto a human model with the same tree (human masses), both evaluated by
-// syn-evaluate. Columns: trial, subject, motion_class, human and robot mean
-// power (W/kg, trial level) and robot/human. `synergies_files` supply the
-// labels; the three lists are parallel.
+// Human-vs-robot mechanical power per trial: each trial retargeted onto a robot and onto a human model
+// (syn-human's de Leva model, or any URDF), both evaluated alike by syn-evaluate. Columns: trial, subject,
+// motion_class, robot (`robot_name`), human and robot mean power (W/kg, trial level), robot/human, and the
+// human's hip / knee / ankle share of the sagittal leg joint power (mean |tau u| of left_/right_
+// hip_flexion, knee, ankle_flexion; empty when the human model has no such joints). `synergies_files`
+// supply the labels; the three lists are parallel.
 void WritePowerRatioTable(const std::vector<std::string>& synergies_files,
                           const std::vector<std::string>& robot_metrics_files,
-                          const std::vector<std::string>& human_metrics_files, const std::string& output);
+                          const std::vector<std::string>& human_metrics_files, const std::string& output,
+                          const std::string& robot_name = "robot");
 
 }  // namespace syn

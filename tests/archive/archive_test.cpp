@@ -155,3 +155,19 @@ TEST(ArchiveGenerator, EveryCmuConventionGivesRigidBones) {
 
 }  // namespace
 }  // namespace syn
+
+namespace syn {
+namespace {
+
+TEST(ArchiveGenerator, ManifestRunsThePapersProtocolUnlessAskedForThroughput) {
+  const std::vector<GeneratedTrial> trials = {{"s01_walk", "s01", "captures/s01_walk.trc", "walk", "walk", "02_01", 10.0, 1200, false}};
+  ArchiveOptions options;
+  const std::string paper = ArchiveManifest(trials, "captures", options);
+  EXPECT_NE(paper.find("[evaluate]\neval_rate = 1000\nsamples = 100\n"), std::string::npos) << paper;
+  options.paper_protocol = false;
+  const std::string throughput = ArchiveManifest(trials, "captures", options);
+  EXPECT_NE(throughput.find("[evaluate]\neval_rate = 120\nsamples = 0\n"), std::string::npos) << throughput;
+}
+
+}  // namespace
+}  // namespace syn

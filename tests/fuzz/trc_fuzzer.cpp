@@ -1,15 +1,22 @@
-// libFuzzer target for the trc reader: any bytes either parse or raise a
-// DataError; nothing else may escape, crash or hang.
+// libFuzzer target for the trc reader and the normalisation after it: any bytes either parse or
+// raise a DataError; nothing else may escape, crash or hang.
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
 
 #include "common/error.h"
+#include "common/intermediate_file.h"
+#include "stages/ingest/capture_normalization.h"
 #include "stages/ingest/trc_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
-    (void)syn::ParseTrc(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.trc");
+    syn::MarkerData capture = syn::ParseTrc(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.trc");
+    // What syn-ingest does next: text made UTF-8, the up axis decided from the data, and the metadata
+    // dumped as JSON. None of it may throw anything but a DataError (no json type_error for a stray byte).
+    syn::NormalizeCapture(capture, {});
+    (void)syn::CanonicalJson(capture.metadata);
+    (void)syn::CanonicalJson(nlohmann::json(capture.labels));
   } catch (const syn::DataError&) {
   }
   return 0;

@@ -1,4 +1,5 @@
 #include "stages/library/style_library.h"
+#include "stages/synergies/segment_pca.h"
 
 #include <gtest/gtest.h>
 

@@ -216,6 +216,68 @@ TEST(ModelDynamics, FixedJointMergeCombinesMassProperties) {
   std::filesystem::remove(path);
 }
 
+TEST(ModelDynamics, MassTimesAtAGivenConfigurationEqualsSimbodysMultiplyByM) {
+  // calcMassTimesAt walks the tree itself (syn-evaluate's Monte-Carlo loop); Simbody's multiplyByM after
+  // setQ is the reference. HRP-4C covers prismatic joints and a fixed base, G1 and H1 a free base.
+  std::mt19937 random(23);
+  for (const char* robot : kRobots) {
+    SYN_REQUIRE_SHARED(robot);
+    SCOPED_TRACE(robot);
+    const Model model = Model::Load(testing::SharedPath(robot));
+    Workspace workspace(model), reference(model);
+    workspace.setQ(RandomConfiguration(model, random));
+    const Eigen::VectorXd before = workspace.getQ();
+    Eigen::VectorXd fast, simbody;
+    for (int trial = 0; trial < 20; ++trial) {
+      Eigen::VectorXd q = RandomConfiguration(model, random);
+      if (model.hasFreeBase()) {
+        q.segment<3>(4) *= 5.0;                    // metres away from the origin, as a long walk gets
+        if (trial % 2) q.head<4>() *= 1.3;         // an unnormalised quaternion is normalised, as setQ does
+      }
+      const Eigen::VectorXd v = RandomVector(model.nu(), random);
+      workspace.calcMassTimesAt(q, v, fast);
+      reference.setQ(q);
+      reference.calcMassTimes(v, simbody);
+      ASSERT_EQ(fast.size(), model.nu());
+      EXPECT_LT((fast - simbody).cwiseAbs().maxCoeff(), 1e-12 * std::max(1.0, simbody.cwiseAbs().maxCoeff()))
+          << "trial " << trial;
+    }
+    EXPECT_TRUE(workspace.getQ() == before) << "calcMassTimesAt must leave the workspace's configuration alone";
+  }
+}
+
+TEST(ModelDynamics, DynamicsAtAGivenStateEqualSimbodysInverseDynamicsAndPoses) {
+  // calcDynamicsAt (syn-evaluate's power and feet) against Simbody after setQ and setU: momentum,
+  // inverse dynamics with gravity, and every link's pose.
+  std::mt19937 random(29);
+  for (const char* robot : kRobots) {
+    SYN_REQUIRE_SHARED(robot);
+    SCOPED_TRACE(robot);
+    const Model model = Model::Load(testing::SharedPath(robot));
+    Workspace workspace(model), reference(model);
+    Eigen::VectorXd momentum, tau, expected_momentum, expected_tau;
+    for (int trial = 0; trial < 10; ++trial) {
+      Eigen::VectorXd q = RandomConfiguration(model, random);
+      if (model.hasFreeBase()) q.segment<3>(4) *= 5.0;
+      const Eigen::VectorXd u = RandomVector(model.nu(), random), udot = RandomVector(model.nu(), random);
+      workspace.calcDynamicsAt(q, u, udot, momentum, tau);
+      reference.setQ(q);
+      reference.setU(u);
+      reference.calcMomentum(expected_momentum);
+      reference.calcInverseDynamics(udot, expected_tau);
+      EXPECT_LT((momentum - expected_momentum).cwiseAbs().maxCoeff(),
+                1e-12 * std::max(1.0, expected_momentum.cwiseAbs().maxCoeff())) << "trial " << trial;
+      EXPECT_LT((tau - expected_tau).cwiseAbs().maxCoeff(), 1e-11 * std::max(1.0, expected_tau.cwiseAbs().maxCoeff()))
+          << "trial " << trial;
+      for (size_t link = 0; link < model.linkNames().size(); ++link) {
+        const Eigen::Isometry3d pose = workspace.findLinkPoseAtLastDynamics(static_cast<int>(link));
+        const Eigen::Isometry3d expected = reference.findLinkPose(static_cast<int>(link));
+        EXPECT_LT((pose.matrix() - expected.matrix()).cwiseAbs().maxCoeff(), 1e-12) << model.linkNames()[link];
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace syn
 

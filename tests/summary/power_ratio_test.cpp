@@ -47,10 +47,27 @@ class PowerRatioTable : public ::testing::Test {
 TEST_F(PowerRatioTable, RowHoldsBothPowersAndTheirRatio) {
   const std::string robot = metrics("robot.json", "{\"mean_power_w_per_kg\": 7.5}");
   const std::string human = metrics("human.json", "{\"mean_power_w_per_kg\": 2.5}");
-  WritePowerRatioTable({path("synergies.h5")}, {robot}, {human}, path("ratio.csv"));
+  WritePowerRatioTable({path("synergies.h5")}, {robot}, {human}, path("ratio.csv"), "g1");
   EXPECT_EQ(ReadFileText(path("ratio.csv")),
-            "trial,subject,motion_class,human_w_per_kg,robot_w_per_kg,robot_over_human\n"
-            "02_01,02,walk,2.5,7.5,3\n");
+            "trial,subject,motion_class,robot,human_w_per_kg,robot_w_per_kg,robot_over_human,"
+            "human_hip_share,human_knee_share,human_ankle_share\n"
+            "02_01,02,walk,g1,2.5,7.5,3,,,\n");
+}
+
+// The human's sagittal leg power split, from syn-evaluate's per-velocity breakdown (syn-human's joint names):
+// hip 0.4 + 0.4, knee 0.1 + 0.3, ankle 0.3 + 0.5 W/kg of 2.0 -> 0.4, 0.2, 0.4. Other velocities do not count.
+TEST_F(PowerRatioTable, HumanLegPowerSplitsIntoHipKneeAndAnkleShares) {
+  const std::string robot = metrics("robot.json", "{\"mean_power_w_per_kg\": 7.5}");
+  const std::string human = metrics(
+      "human.json",
+      "{\"mean_power_w_per_kg\": 2.5, \"power_by_velocity_w_per_kg\": {\"left_hip_flexion\": 0.4, "
+      "\"right_hip_flexion\": 0.4, \"left_knee\": 0.1, \"right_knee\": 0.3, \"left_ankle_flexion\": 0.3, "
+      "\"right_ankle_flexion\": 0.5, \"left_hip_adduction\": 9.0, \"lumbar_extension\": 9.0}}");
+  WritePowerRatioTable({path("synergies.h5")}, {robot}, {human}, path("ratio.csv"), "hrp4c");
+  EXPECT_EQ(ReadFileText(path("ratio.csv")),
+            "trial,subject,motion_class,robot,human_w_per_kg,robot_w_per_kg,robot_over_human,"
+            "human_hip_share,human_knee_share,human_ankle_share\n"
+            "02_01,02,walk,hrp4c,2.5,7.5,3,0.4,0.2,0.4\n");
 }
 
 TEST_F(PowerRatioTable, MetricsWithoutPowerNameTheFileAndWriteNothing) {

@@ -196,10 +196,14 @@ std::string ArchiveManifest(const std::vector<GeneratedTrial>& trials, const std
        << "[ingest]\nup_axis = \"z\"\nfill_gaps = 30\n\n"
        << "# Joint centres only: a stronger pull toward the reference stance keeps the arms' free swivel from\n"
        << "# drifting onto joint limits (syn-retarget --help).\n"
-       << "[retarget]\nposture_scale = 10\n\n"
-       << "# Throughput at scale: metrics at the capture rate, no Monte-Carlo (the paper's 1 kHz and 100 samples\n"
-       << "# are syn-evaluate's defaults, used by the demo and cmu15 manifests).\n"
-       << "[evaluate]\neval_rate = " << options.rate << "\nsamples = 0\n";
+       << "[retarget]\nposture_scale = 10\n\n";
+  if (options.paper_protocol) {
+    text << "# The paper's protocol: metrics on a 1 kHz grid, 100 Monte-Carlo reconstructions per segment.\n"
+         << "[evaluate]\neval_rate = 1000\nsamples = 100\n";
+  } else {
+    text << "# Throughput only: metrics at the capture rate, no Monte-Carlo (syn-archive --protocol throughput).\n"
+         << "[evaluate]\neval_rate = " << options.rate << "\nsamples = 0\n";
+  }
   for (const GeneratedTrial& trial : trials) {
     text << "\n[[trial]]\nid = \"" << trial.id << "\"\nsubject = \"" << trial.subject << "\"\nfile = \"" << trial.file
          << "\"\nmotion_class = \"" << trial.motion_class << "\"\nstyle = \"" << trial.style << "\"\n";

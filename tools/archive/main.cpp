@@ -25,7 +25,14 @@ int main(int argc, char** argv) {
   app.add_option("--noise-mm", options.noise_mm, "Marker noise, standard deviation in mm")->capture_default_str();
   app.add_option("--gaps-per-second", options.gaps_per_second, "Gap starts per marker per second")->capture_default_str();
   app.add_option("--seed", options.seed, "Random seed")->capture_default_str();
+  std::string protocol = "paper";
+  app.add_option("--protocol", protocol,
+                 "The manifest's metrics: paper (1 kHz, 100 Monte-Carlo reconstructions per segment) or throughput "
+                 "(capture rate, no Monte-Carlo)")
+      ->check(CLI::IsMember({"paper", "throughput"}))
+      ->capture_default_str();
   return syn::RunTool(app, argc, argv, [&] {
+    options.paper_protocol = protocol == "paper";
     if (options.subjects < 1 || !(options.hours > 0) || !(options.rate > 0) || options.noise_mm < 0) {
       throw syn::UsageError("--subjects, --hours and --rate must be positive, --noise-mm >= 0");
     }

@@ -8,6 +8,7 @@
 # stage's thread parameter.
 CPUS_ingest ?= 1
 CPUS_retarget ?= 1
+CPUS_simulate ?= 1
 CPUS_segment ?= 1
 CPUS_synergies ?= 1
 CPUS_evaluate ?= 1
