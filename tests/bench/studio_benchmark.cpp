@@ -2,7 +2,7 @@
 // which must stay under 50 ms for a 4 s motion to follow the slider. StudioCompose4s times
 // Studio::compose (everything the server does but the socket) on a 4 s script of the demo library
 // (outputs/demo/library.h5, `make demo`): two steps of two repetitions of 1 s, keyframed gains. The parts
-// are timed too: Composer::compose alone (limits, integration, inverse dynamics) and the 250 Hz metrics.
+// are timed too: Composer::compose alone (limits, integration, inverse dynamics) and the metrics (1 kHz).
 #include <benchmark/benchmark.h>
 
 #include <filesystem>

@@ -163,7 +163,7 @@ TEST_F(StudioApiTest, ComposeRoundTripIsSynComposesMotionAndSynEvaluatesMetrics)
   EXPECT_NEAR(metrics["foot_sliding_ratio"].get<double>(), trial["foot_sliding_ratio"].get<double>(), 1e-12);
   ASSERT_EQ(metrics["steps"].size(), 2u);
   ASSERT_EQ(metrics["series"]["momentum"].size(), time.size());
-  // The kinetic energy series (½ uᵀ A u per frame) averages near the 250 Hz grid's mean KE (same motion,
+  // The kinetic energy series (½ uᵀ A u per frame) averages near the evaluation grid's mean KE (same motion,
   // other instants): a check that the plots show this motion.
   double kinetic = 0;
   for (double value : metrics["series"]["kinetic_energy"]) kinetic += value;

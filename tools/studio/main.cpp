@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-steps", options.max_steps, "Most steps in one request")->capture_default_str();
   app.add_option("--io-timeout", options.io_timeout_seconds, "Socket read/write timeout, s")->capture_default_str();
   app.add_option("--eval-rate", options.eval_rate,
-                 "Metrics grid, Hz (syn-evaluate uses 1000; lower keeps a slider update fast)")->capture_default_str();
+                 "Metrics grid, Hz (syn-evaluate's default; lower it to speed up long motions)")->capture_default_str();
   app.add_option("--contact-height", options.sliding.contact_height, "Foot sliding: contact below this height, m")
       ->capture_default_str();
   app.add_option("--slide-speed", options.sliding.slide_speed, "Foot sliding: a foot in contact faster than this, m/s")

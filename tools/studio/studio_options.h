@@ -24,10 +24,10 @@ struct StudioOptions {
   int max_steps = 64;
   // Socket read and write timeouts: a client that stalls mid-request is dropped.
   int io_timeout_seconds = 5;
-  // Metrics grid. syn-evaluate's 1 kHz (the paper's control rate) costs ~4 times the budget of a slider
-  // update for a 4 s motion; 250 Hz keeps ΔP and ΔKE per grid step comparable between scripts of one
-  // session (they scale with the grid step: compare with syn-evaluate's numbers only at the same rate).
-  double eval_rate = 250.0;  // Hz
+  // Metrics grid: syn-evaluate's default (the paper's 1 kHz control rate), so the page shows the numbers
+  // syn-evaluate gives the saved script's motion. A 4 s motion's metrics cost ~9 ms of the 50 ms budget
+  // (tests/bench/studio_benchmark.cpp); lower it for long motions on a slow machine.
+  double eval_rate = 1000.0;  // Hz
   FootSlidingOptions sliding;  // syn-evaluate's defaults (stages/evaluate/foot_sliding.h)
   // Where the page (index.html, studio.js, studio.css) and three.js (npm, make report-npm) are read from.
   // Defaults: the source tree the binary was built from (tools/studio/web, tools/report/...).
