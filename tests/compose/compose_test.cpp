@@ -203,7 +203,9 @@ TEST_F(ComposeTest, LimitViolationsAreScaledAndWarnedNeverClipped) {
       EXPECT_NEAR(composed_u, factor * full[joint.u_index], 1e-9 * (1 + std::abs(full[joint.u_index])))
           << joint.name << " (factor " << factor << ") frame " << t;
     }
-    if (factor < 1.0) EXPECT_GT(largest_full, 0.0) << joint.name << " was scaled although it does not move";
+    if (factor < 1.0) {
+      EXPECT_GT(largest_full, 0.0) << joint.name << " was scaled although it does not move";
+    }
   }
   EXPECT_GE(scaled_joints, 1);
 }

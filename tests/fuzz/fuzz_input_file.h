@@ -23,7 +23,7 @@ inline std::string WriteFuzzInput(const uint8_t* data, size_t size, const std::s
   const std::string path = (folder / file_name).string();
   FILE* file = std::fopen(path.c_str(), "wb");
   if (file == nullptr) std::abort();  // the fuzzer's own setup, not the code under test
-  if (size > 0 && std::fwrite(data, 1, size, file) != size) std::abort();
+  if (size > 0 && data != nullptr && std::fwrite(data, 1, size, file) != size) std::abort();
   std::fclose(file);
   return path;
 }

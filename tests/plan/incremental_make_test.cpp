@@ -128,16 +128,15 @@ std::vector<std::string> TemporariesOf(const std::string& final_path) {
 }
 
 TEST_F(IncrementalMake, KilledJobLeavesNoFileTakenAsDone) {
-  // A manifest with a robot, so the trial runs ingest and then retarget.
+  // A manifest with a robot, so the trial runs ingest and then retarget (the shortest bundled capture).
   std::ofstream(dir_ + "/tiny.toml") << "name = \"tiny\"\nroot = \"captures\"\n"
                                      << "model = \"" << SourcePath("datasets/robots/unitree_g1/g1_29dof.urdf") << "\"\n"
                                      << "robot_map = \"" << SourcePath("manifests/robots/g1.toml") << "\"\n"
                                      << "markerset = \"" << SourcePath("manifests/markersets/cmu-bvh.toml") << "\"\n"
-                                     << "[[trial]]\nid = \"dance\"\nfile = \"05_02.bvh\"\ndrop_first_frame = true\n";
-  fs::copy_file(SourcePath("datasets/demo/05_02.bvh"), dir_ + "/captures/05_02.bvh");
+                                     << "[[trial]]\nid = \"jacks\"\nfile = \"14_14_excerpt.bvh\"\n";
   ASSERT_EQ(plan().exit_code, 0);
-  const std::string motion = dir_ + "/outputs/tiny/trials/dance/motion.h5";
-  const std::string motion_target = "outputs/tiny/trials/dance/motion.h5";
+  const std::string motion = dir_ + "/outputs/tiny/trials/jacks/motion.h5";
+  const std::string motion_target = "outputs/tiny/trials/jacks/motion.h5";
 
   for (const int signal : {SIGKILL, SIGTERM, SIGINT}) {
     SCOPED_TRACE(std::string("signal ") + strsignal(signal));
