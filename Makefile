@@ -2,11 +2,15 @@
 #
 #   make                  set up (Debian packages), build, run the demo archive (manifests/demo.toml)
 #   make run MANIFEST=manifests/X.toml [DATASET_ROOT=...] -jN   the pipeline on any archive
+#   make run|release ... CLUSTER=slurm   every job of the plan as an srun step (README: SLURM)
+#   make cluster-up | cluster-down   a single-node SLURM cluster on this machine (root; for trying and CI)
 #   make release MANIFEST=manifests/X.toml   a deterministic tar of the archive's results
 #   make compose SCRIPT=manifests/scripts/X.toml [LIBRARY=outputs/demo/library.h5]   a scripted motion,
 #                         evaluated and exported (outputs/compose/X.*)
 #   make bench-archive [ARCHIVE_HOURS=3 ARCHIVE_SUBJECTS=20]   generate a large archive from the CMU trials
 #                         and run the whole pipeline on it: wall time and frames/s per stage
+#   make report [MANIFEST=manifests/X.toml]   the archive's offline HTML report: the paper's figures, per-trial
+#                         plots and a 3-D player (outputs/NAME/report/index.html); redraws only what changed
 #   make project [LIBRARY=... STYLE=walk]   the paper's text-to-motion experiment on the HumanML3D and MDM
 #                         joints in ../shared/datasets/humanml3d: before/after table in outputs/project/
 #   make test             build and run every test (ctest)
@@ -14,7 +18,8 @@
 #   make sanitize-test    the test suite on an ASan+UBSan build (-O1 -g)
 #   make fuzz-smoke       each format reader's libFuzzer target for FUZZ_SECONDS (clang)
 #
-# Variables: BUILD_DIR (build), BUILD_TYPE (Release), JOBS (nproc), CMAKE_FLAGS.
+# Variables: BUILD_DIR (build), BUILD_TYPE (Release), JOBS (nproc), CMAKE_FLAGS, CLUSTER (local | slurm;
+# with slurm also CPUS_<stage> and SRUN_FLAGS, see tools/slurm/launch.mk).
 
 SHELL := /bin/bash
 BUILD_DIR ?= build
@@ -28,10 +33,15 @@ BIN := $(BUILD_DIR)/bin
 DEBIAN_PACKAGES := cmake g++ make libeigen3-dev libsimbody-dev libceres-dev libsuitesparse-dev libhdf5-dev \
   nlohmann-json3-dev libcli11-dev libtomlplusplus-dev libtinyxml2-dev libssl-dev libgtest-dev libbenchmark-dev \
   python3 python3-matplotlib python3-h5py
+# Only for `make report` (npm fetches three.js once, into tools/report/node_modules) and its headless-browser
+# test (tests/report). nodesource's nodejs ships its own npm: install Debian's npm only when npm is missing.
+REPORT_PACKAGES := nodejs chromium
 # Only for `make fuzz-smoke`: libFuzzer ships with clang's runtime.
 FUZZ_PACKAGES := clang libclang-rt-14-dev
+# Only for `make cluster-up` (installed by tools/slurm/cluster-up.sh, which waits for the dpkg lock).
+SLURM_PACKAGES := slurmctld slurmd slurm-client munge
 
-.PHONY: all setup setup-fuzz configure build test bench bench-archive demo run release compose project power-ratio sanitize-test fuzz-smoke clean print-packages
+.PHONY: all setup setup-fuzz setup-report report report-npm configure build test bench bench-archive demo run release compose project power-ratio sanitize-test fuzz-smoke clean print-packages cluster-up cluster-down check-cluster
 .DEFAULT_GOAL := all
 
 all: demo
@@ -61,6 +71,9 @@ setup:
 
 setup-fuzz: setup
 	$(call install_missing,$(FUZZ_PACKAGES))
+
+setup-report: setup
+	$(call install_missing,$(REPORT_PACKAGES) $(if $(shell command -v npm),,npm))
 
 # cmake configures a new build directory, and configures an existing one again whenever CMAKE_FLAGS differ
 # from the last ones given (recorded in $(BUILD_DIR)/cmake-flags): the cache keeps -D values, so
@@ -131,9 +144,21 @@ OUTPUTS ?= outputs
 MANIFEST_NAME = $(shell sed -n 's/^name *= *"\(.*\)".*/\1/p' $(MANIFEST) | head -n 1)
 MANIFEST_VERSION = $(shell sed -n 's/^version *= *"\(.*\)".*/\1/p' $(MANIFEST) | head -n 1)
 
-run: build
+# CLUSTER=slurm: the same rules, each job started as an srun step (tools/slurm/launch.mk); -jN is then how
+# many steps are queued or running at once.
+CLUSTER ?= local
+ifeq ($(filter local slurm,$(CLUSTER)),)
+  $(error CLUSTER=$(CLUSTER): expected local or slurm)
+endif
+LAUNCHER_RULES = $(if $(filter slurm,$(CLUSTER)),-f tools/slurm/launch.mk)
+
+check-cluster:
+	@$(if $(filter slurm,$(CLUSTER)),sinfo -h >/dev/null || { echo "make: CLUSTER=slurm but sinfo does not answer \
+	  (on this machine: sudo make cluster-up)" >&2; exit 1; })
+
+run: build check-cluster
 	@$(BIN)/syn-plan $(MANIFEST) -o $(OUTPUTS)/$(MANIFEST_NAME)/rules.mk --outputs $(OUTPUTS) $(if $(DATASET_ROOT),--dataset-root $(DATASET_ROOT))
-	@$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/$(MANIFEST_NAME)/rules.mk SYN_BIN=$(BIN) all
+	@$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/$(MANIFEST_NAME)/rules.mk $(LAUNCHER_RULES) SYN_BIN=$(BIN) all
 	@echo "make: $(MANIFEST_NAME): all jobs up to date in $(OUTPUTS)/$(MANIFEST_NAME)/"
 
 # ---- reproducible release ------------------------------------------------------------
@@ -165,19 +190,41 @@ demo:
 CMU_BVH ?= ../shared/datasets/cmu_bvh
 ARCHIVE_HOURS ?= 3
 ARCHIVE_SUBJECTS ?= 20
-bench-archive: build
+bench-archive: build check-cluster
 	@gen=$(OUTPUTS)/archive-captures; start=$$(date +%s.%N); \
 	$(BIN)/syn-archive $(CMU_BVH)/*/*.bvh --index $(CMU_BVH)/index.csv --subjects $(ARCHIVE_SUBJECTS) \
 	  --hours $(ARCHIVE_HOURS) -o $$gen 2>&1 | grep -v skipped; \
 	generated=$$(date +%s.%N); \
 	$(BIN)/syn-plan $$gen/archive.toml -o $(OUTPUTS)/archive/rules.mk --outputs $(OUTPUTS) && \
-	$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/archive/rules.mk SYN_BIN=$(BIN) all > $(OUTPUTS)/archive/progress.log || exit 1; \
+	$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/archive/rules.mk $(LAUNCHER_RULES) SYN_BIN=$(BIN) all > $(OUTPUTS)/archive/progress.log || exit 1; \
 	end=$$(date +%s.%N); frames=$$(sed -n 's/^# frames: //p' $$gen/archive.toml); \
 	echo "bench-archive: $(ARCHIVE_SUBJECTS) subjects, $(ARCHIVE_HOURS) h, $$frames frames at 120 Hz, -j$(JOBS)"; \
 	awk -v g="$$start" -v s="$$generated" -v e="$$end" 'BEGIN{printf "  generate  %8.1f s wall\n  pipeline  %8.1f s wall\n", s-g, e-s}'; \
 	awk -v frames=$$frames '{cpu[$$1]+=$$(NF-1); jobs[$$1]++} END{printf "  %-10s %6s %10s %14s\n","stage","jobs","cpu s","frames/s/core"; \
 	  for (st in cpu) printf "  %-10s %6d %10.1f %14.0f\n", st, jobs[st], cpu[st], (st=="library"||st=="summary") ? 0 : frames/cpu[st]}' \
 	  $(OUTPUTS)/archive/progress.log | sort
+
+# ---- report ----------------------------------------------------------------------------
+# `make report MANIFEST=...`: tools/report/report.py plan writes outputs/NAME/report/rules.mk (one target per
+# figure, per trial and for the page, each depending on exactly the files it reads and the scripts that draw
+# it), then make redraws what changed. The page works offline, from file:// too: three.js comes from npm
+# (package-lock.json pins it) and is copied into the report folder.
+# npm ci runs when node_modules is missing or was installed from another package-lock.json (npm gives the
+# files it unpacks a fixed 1985 mtime, so their dates say nothing).
+REPORT_LOCK := tools/report/node_modules/.installed-package-lock.json
+report-npm:
+	@cmp -s tools/report/package-lock.json $(REPORT_LOCK) || { \
+	  command -v npm >/dev/null || { echo "make: report needs npm (make setup-report, as root)"; exit 1; }; \
+	  echo "make: npm ci in tools/report (three.js, playwright-core)"; \
+	  (cd tools/report && npm ci --no-audit --no-fund --loglevel=error) && \
+	  cp tools/report/package-lock.json $(REPORT_LOCK); }
+
+# Debian's python3 (python3-matplotlib, python3-h5py), whatever else is first on PATH.
+REPORT_PYTHON ?= /usr/bin/python3
+report: run report-npm
+	@$(REPORT_PYTHON) tools/report/report.py plan --manifest $(MANIFEST) --outputs $(OUTPUTS) --bin $(BIN)
+	@$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/$(MANIFEST_NAME)/report/rules.mk SYN_BIN=$(BIN) all
+	@echo "make: $(MANIFEST_NAME): report in $(OUTPUTS)/$(MANIFEST_NAME)/report/index.html"
 
 # ---- text-to-motion projection ---------------------------------------------------------
 # Each [T,22,3] joints file is ingested and retargeted with the humanml3d22 marker set, then projected.
@@ -246,6 +293,15 @@ compose: build
 	$(BIN)/syn-evaluate $$out/$$name.motion.h5 --model $(COMPOSE_MODEL) --robot-map $(COMPOSE_MAP) -o $$out/$$name.metrics.json && \
 	$(BIN)/syn-export $$out/$$name.motion.h5 -o $$out/$$name.csv --format robot-csv --model $(COMPOSE_MODEL) --rate 30 && \
 	$(BIN)/syn-export $$out/$$name.motion.h5 -o $$out/$$name.mot --model $(COMPOSE_MODEL)
+
+# ---- a single-node SLURM cluster --------------------------------------------------------
+# Packages, munge key, a cgroup-free slurm.conf for this host, daemons started without systemd; idempotent;
+# returns when sinfo answers. cluster-down stops the daemons (packages, config and state stay).
+cluster-up:
+	@SLURM_PACKAGES="$(SLURM_PACKAGES)" tools/slurm/cluster-up.sh
+
+cluster-down:
+	@tools/slurm/cluster-down.sh
 
 clean:
 	rm -rf $(BUILD_DIR) build-sanitize $(FUZZ_BUILD_DIR) outputs

@@ -168,6 +168,12 @@ int WritePlan(const Plan& plan, const Manifest& manifest, const std::string& rul
         << "syn_start = start=$$EPOCHREALTIME\n"
         << "syn_done = printf '%-10s %-28s %7.2f s\\n' $(1) $(2) $$(awk \"BEGIN{print $$EPOCHREALTIME - $$start}\")\n"
         << "syn_failed = { cat $@.log >&2; echo \"make: $(1) $(2) failed (log: $@.log)\" >&2; exit 1; }\n"
+        << "# How a job is started: directly here; CLUSTER=slurm adds tools/slurm/launch.mk, which makes each job an\n"
+        << "# srun step. A launcher can report success for a step that never ran, so a job also fails unless its\n"
+        << "# output exists and no prerequisite is newer.\n"
+        << "syn_launch ?=\n"
+        << "syn_wrote_output = { [ -f $@ ] && [ -z \"$$(find $^ -newer $@ 2>/dev/null)\" ] || "
+           "{ echo \"$@ was not written (or is older than a prerequisite)\" >> $@.log; false; }; }\n"
         << ".DELETE_ON_ERROR:\n"
         << ".PHONY: all\n"
         << "all:";
@@ -179,7 +185,8 @@ int WritePlan(const Plan& plan, const Manifest& manifest, const std::string& rul
     for (const std::string& input : job.inputs) rules << " " << input;
     rules << " " << job.stamp << " $(SYN_BIN)/syn-" << job.stage << "\n"
           << "\t@mkdir -p $(@D)\n"
-          << "\t@$(syn_start); " << job.command << " 2> $@.log && $(call syn_done," << job.stage << "," << job.trial
+          << "\t@$(syn_start); $(call syn_launch," << job.stage << "," << job.trial << ") " << job.command
+          << " 2> $@.log && $(syn_wrote_output) && $(call syn_done," << job.stage << "," << job.trial
           << ") || $(call syn_failed," << job.stage << "," << job.trial << ")\n\n";
   }
   WriteIfChanged(rules_path, rules.str());

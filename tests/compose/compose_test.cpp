@@ -13,6 +13,7 @@
 #include "stages/export/motion_export.h"
 #include "stages/library/style_library.h"
 #include "stages/segment/segmentation.h"
+#include "stages/synergies/synergies.h"
 #include "tests/support/demo_motion.h"
 #include "tests/support/run_command.h"
 #include "tests/support/shared_data.h"
@@ -31,7 +32,7 @@ class ComposeTest : public ::testing::Test {
     LabelledTrial trial;
     trial.labels.trial = "05_02";
     trial.labels.style = "modern";
-    trial.synergies = ComputeTrialSynergies(motion, SegmentMotion(motion, *model_, {}).boundaries, trial.labels);
+    trial.synergies = ComputeTrialSynergies(motion, SegmentMotion(motion, *model_, {}).boundaries, SynergyOptions{3, VelocitySet::kAll, trial.labels});
     dir_ = new std::string(fs::temp_directory_path() / ("syn_compose_" + std::to_string(::getpid())));
     fs::create_directories(*dir_);
     const std::string path = *dir_ + "/library.h5";

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -175,6 +176,32 @@ TEST_F(IncrementalMake, KilledJobLeavesNoFileTakenAsDone) {
     EXPECT_TRUE(pendingOutputs().empty());
     for (const std::string& leftover : TemporariesOf(motion)) fs::remove(leftover);
   }
+}
+
+// A launcher that reports success without running the job (srun can exit 0 for a step that never started)
+// fails the rule: the job's output must exist and be newer than every prerequisite.
+TEST_F(IncrementalMake, JobThatNeverRanFailsItsRule) {
+  ASSERT_EQ(plan().exit_code, 0);
+  const std::string walk_markers = "outputs/tiny/trials/walk/markers.h5";
+  // `echo` stands in for such a launcher: it exits 0 and starts nothing.
+  CommandResult never_ran = make("syn_launch=echo");
+  EXPECT_NE(never_ran.exit_code, 0) << never_ran.output;
+  EXPECT_NE(never_ran.output.find("markers.h5 was not written"), std::string::npos) << never_ran.output;
+  EXPECT_FALSE(fs::exists(dir_ + "/" + walk_markers));
+
+  // An output left by an earlier run does not count either once a prerequisite is newer.
+  ASSERT_EQ(make("").exit_code, 0);
+  // (Aged by moving the output's time back: a capture dated in the future would stay newer than any rerun.)
+  fs::last_write_time(dir_ + "/" + walk_markers,
+                      fs::last_write_time(dir_ + "/" + walk_markers) - std::chrono::seconds(2));
+  never_ran = make("syn_launch=echo");
+  EXPECT_NE(never_ran.exit_code, 0) << never_ran.output;
+  EXPECT_NE(never_ran.output.find(walk_markers + " was not written (or is older than a prerequisite)"),
+            std::string::npos)
+      << never_ran.output;
+  EXPECT_EQ(pendingOutputs(), (std::set<std::string>{walk_markers}));
+  ASSERT_EQ(make("").exit_code, 0);
+  EXPECT_TRUE(pendingOutputs().empty());
 }
 
 TEST_F(IncrementalMake, ManifestMistakesAreLocated) {

@@ -14,6 +14,7 @@
 #include "stages/project/torso_null_space.h"
 #include "stages/retarget/retarget.h"
 #include "stages/segment/segmentation.h"
+#include "stages/synergies/synergies.h"
 #include "tests/support/demo_motion.h"
 #include "tests/support/shared_data.h"
 
@@ -34,7 +35,7 @@ Eigen::MatrixXd WalkBasis() {
   LabelledTrial trial;
   trial.labels.trial = "02_01";
   trial.labels.style = "walk";
-  trial.synergies = ComputeTrialSynergies(walk, SegmentMotion(walk, G1(), {}).boundaries, trial.labels);
+  trial.synergies = ComputeTrialSynergies(walk, SegmentMotion(walk, G1(), {}).boundaries, SynergyOptions{3, VelocitySet::kAll, trial.labels});
   return BuildLibrary({trial}, {"02_01"}, 3).styles.at("walk").components;
 }
 

@@ -24,7 +24,7 @@ class PowerRatioTable : public ::testing::Test {
     fs::create_directories(directory_);
     // (Labels assigned from strings, not literals: GCC 12 warns falsely on a short literal here.)
     const std::string trial = "02_01", subject = "02", motion_class = "walk";
-    SynergyOptions options;
+    SynergyLabels options;
     options.trial = trial;
     options.subject = subject;
     options.motion_class = motion_class;

@@ -84,15 +84,15 @@ TEST_F(RealSegments, ReconstructionErrorFallsWithKAndIsExactAtFullRank) {
 
 TEST_F(RealSegments, FileRoundTripAndHeadingInvariance) {
   SynergyOptions options;
-  options.style = "modern";
+  options.labels.style = "modern";
   const TrialSynergies trial = ComputeTrialSynergies(*motion_, *boundaries_, options);
   const std::string path = std::filesystem::temp_directory_path() / ("syn_roundtrip_" + std::to_string(::getpid()) + ".h5");
   {
     IntermediateWriter writer(path, {kSynergiesSchema, kSynergiesSchemaVersion, "test", options.ToJson(), nlohmann::json::array()});
-    WriteTrialSynergies(writer, trial, options);
+    WriteTrialSynergies(writer, trial, options.labels);
     writer.commit();
   }
-  SynergyOptions labels;
+  SynergyLabels labels;
   const TrialSynergies back = ReadTrialSynergies(path, &labels);
   EXPECT_EQ(labels.style, "modern");
   ASSERT_EQ(back.segments.size(), trial.segments.size());
