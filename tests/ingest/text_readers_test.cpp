@@ -289,7 +289,16 @@ TEST(TextReaders, DamagedInputsReadRightOrAreRefusedWithALocation) {
     try {
       const MarkerData data = ParseTrc(trc.substr(0, cut), "cut.trc");
       ++read;
-      EXPECT_EQ(data.labels, full.labels);
+      // What differs from the whole file is said: labels cut off are named Marker<N> and rows cut off are
+      // counted against NumFrames, each with a warning.
+      const auto warned = [&](const std::string& about) {
+        for (const std::string& warning : data.warnings) {
+          if (warning.find(about) != std::string::npos) return true;
+        }
+        return false;
+      };
+      if (data.labels != full.labels) EXPECT_TRUE(warned("NumMarkers says")) << data.labels[0];
+      if (data.frame_count() != full.frame_count()) EXPECT_TRUE(warned("NumFrames says")) << data.frame_count();
       ASSERT_LE(data.frame_count(), full.frame_count());
       ASSERT_EQ(data.points.size(), static_cast<size_t>(data.frame_count()) * 3);
       for (int64_t t = 0; t < data.frame_count(); ++t) EXPECT_EQ(data.time_s[t], full.time_s[t]) << "frame " << t;

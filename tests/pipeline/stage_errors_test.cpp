@@ -23,7 +23,7 @@ struct BadValue {
   std::string command;  // a valid command but for `flag value`
   std::string flag;
   std::string value;
-  std::string named_as;  // what the message must contain (default: the flag)
+  std::string named_as;  // what the message may contain instead of the flag (empty: the flag only)
 };
 
 std::string Bin(const std::string& tool) { return BinPath(tool) + " "; }
@@ -98,9 +98,9 @@ TEST(StageErrors, EveryEnumeratedFlagAndNumericRangeRefusesABadValueAsUsage) {
     SCOPED_TRACE(command);
     const CommandResult result = RunCommand(command);
     EXPECT_EQ(result.exit_code, 2) << result.output;
-    const std::string named = bad.named_as.empty() ? bad.flag : bad.named_as;
-    EXPECT_NE(result.output.find(named), std::string::npos) << "the message should name " << named << ":\n"
-                                                            << result.output;
+    const bool named = result.output.find(bad.flag) != std::string::npos ||
+                       (!bad.named_as.empty() && result.output.find(bad.named_as) != std::string::npos);
+    EXPECT_TRUE(named) << "the message should name " << bad.flag << ":\n" << result.output;
     EXPECT_FALSE(fs::exists(chain.dir + "/bad-value.out"));
   }
 }
