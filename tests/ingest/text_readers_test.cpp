@@ -297,8 +297,12 @@ TEST(TextReaders, DamagedInputsReadRightOrAreRefusedWithALocation) {
         }
         return false;
       };
-      if (data.labels != full.labels) EXPECT_TRUE(warned("NumMarkers says")) << data.labels[0];
-      if (data.frame_count() != full.frame_count()) EXPECT_TRUE(warned("NumFrames says")) << data.frame_count();
+      if (data.labels != full.labels) {
+        EXPECT_TRUE(warned("NumMarkers says")) << data.labels[0];
+      }
+      if (data.frame_count() != full.frame_count()) {
+        EXPECT_TRUE(warned("NumFrames says")) << data.frame_count();
+      }
       ASSERT_LE(data.frame_count(), full.frame_count());
       ASSERT_EQ(data.points.size(), static_cast<size_t>(data.frame_count()) * 3);
       for (int64_t t = 0; t < data.frame_count(); ++t) EXPECT_EQ(data.time_s[t], full.time_s[t]) << "frame " << t;

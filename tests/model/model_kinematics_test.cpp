@@ -107,7 +107,9 @@ std::vector<std::string> UrdfsToCheck() {
 
 TEST(Model, EverySharedUrdfLoadsWithTheMassOfItsLinks) {
   const auto files = UrdfsToCheck();
-  if (std::filesystem::exists(testing::SharedPath("robots"))) ASSERT_GE(files.size(), 1u + 8u);
+  if (std::filesystem::exists(testing::SharedPath("robots"))) {
+    ASSERT_GE(files.size(), 1u + 8u);
+  }
   for (const std::string& file : files) {
     SCOPED_TRACE(file);
     const Model model = Model::Load(file);
