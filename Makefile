@@ -28,7 +28,7 @@ BUILD_DIR ?= build
 BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
-FUZZ_SECONDS ?= 60
+FUZZ_SECONDS ?= 30
 BIN := $(BUILD_DIR)/bin
 
 # Everything synsculpt needs, as Debian 12 packages. Nothing is downloaded at build time.
@@ -78,16 +78,23 @@ setup-fuzz: setup
 setup-report: setup
 	$(call install_missing,$(REPORT_PACKAGES) $(if $(shell command -v npm),,npm))
 
-$(BUILD_DIR)/CMakeCache.txt:
-	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) $(CMAKE_FLAGS)
-
-configure: setup $(BUILD_DIR)/CMakeCache.txt
+# cmake configures a new build directory, and configures an existing one again whenever CMAKE_FLAGS differ
+# from the last ones given (recorded in $(BUILD_DIR)/cmake-flags): the cache keeps -D values, so
+# `make test CMAKE_FLAGS=-DSYN_WERROR=ON` on an existing build directory used to build without -Werror.
+# Empty CMAKE_FLAGS keep what the cache has.
+CONFIGURE_COMMAND = cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) $(CMAKE_FLAGS)
+configure: setup
+	@if [ ! -f $(BUILD_DIR)/CMakeCache.txt ] || \
+	    { [ -n "$(strip $(CMAKE_FLAGS))" ] && [ "$$(cat $(BUILD_DIR)/cmake-flags 2>/dev/null)" != "$(strip $(CMAKE_FLAGS))" ]; }; then \
+	  echo "$(CONFIGURE_COMMAND)"; $(CONFIGURE_COMMAND) && echo "$(strip $(CMAKE_FLAGS))" > $(BUILD_DIR)/cmake-flags; \
+	fi
 
 build: configure
 	cmake --build $(BUILD_DIR) -j$(JOBS)
 
+# --no-tests=error: a build directory (or a -R pattern) with no tests fails instead of passing.
 test: build
-	ctest --test-dir $(BUILD_DIR) --output-on-failure -j$(JOBS)
+	ctest --test-dir $(BUILD_DIR) --output-on-failure --no-tests=error -j$(JOBS)
 
 bench: build
 	@# Three repetitions of at least a second each, reported as mean/median/stddev: a shared VM's
@@ -96,19 +103,41 @@ bench: build
 	  $$program --benchmark_counters_tabular=true --benchmark_min_time=1 --benchmark_repetitions=3 \
 	    --benchmark_report_aggregates_only=true || exit 1; done
 
+# A sanitizer finding exits with SANITIZER_EXIT_CODE, not 1: the tools exit 1 for bad data, and a CLI test that
+# expects a refusal would otherwise take a leak or UB report for one. The variables reach every tool the tests
+# run; tests/cli/sanitizer_exit_code_test.cpp checks that they are in effect.
+SANITIZER_EXIT_CODE := 86
+SANITIZER_ENVIRONMENT := ASAN_OPTIONS=exitcode=$(SANITIZER_EXIT_CODE):detect_leaks=1:abort_on_error=0 \
+  LSAN_OPTIONS=exitcode=$(SANITIZER_EXIT_CODE) \
+  UBSAN_OPTIONS=halt_on_error=1:exitcode=$(SANITIZER_EXIT_CODE):print_stacktrace=1
 sanitize-test: setup
-	$(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=Debug CMAKE_FLAGS="-DSYN_SANITIZE=ON -DSYN_BENCH=OFF $(CMAKE_FLAGS)"
+	$(SANITIZER_ENVIRONMENT) $(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=Debug \
+	  CMAKE_FLAGS="-DSYN_SANITIZE=ON -DSYN_BENCH=OFF $(CMAKE_FLAGS)"
 
+# Every tests/fuzz/*_fuzzer runs FUZZ_SECONDS from its seeds (tests/fuzz/seeds/NAME) and fails the target on
+# any finding: a crash, an escaped exception, a leak, UB (the fuzz build has -fno-sanitize-recover=all), an
+# input slower than FUZZ_TIMEOUT seconds, or no fuzzer built at all. Each log is kept whole in
+# $(FUZZ_BUILD_DIR)/logs/NAME.log; its tail is printed on failure, the artifact in $(FUZZ_BUILD_DIR)/artifacts/.
+FUZZ_BUILD_DIR ?= build-fuzz
+FUZZ_TIMEOUT ?= 10
 fuzz-smoke: setup-fuzz
-	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYN_FUZZ=ON -DSYN_BENCH=OFF
-	cmake --build build-fuzz -j$(JOBS) --target fuzzers
-	@set -o pipefail; for fuzzer in $$(ls build-fuzz/bin/*_fuzzer 2>/dev/null); do \
-	  name=$$(basename $$fuzzer); corpus=build-fuzz/corpus/$$name; mkdir -p $$corpus; \
-	  echo "== $$name: $(FUZZ_SECONDS) s"; \
+	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYN_FUZZ=ON -DSYN_BENCH=OFF
+	cmake --build $(FUZZ_BUILD_DIR) -j$(JOBS) --target fuzzers
+	@fuzzers=$$(ls $(FUZZ_BUILD_DIR)/bin/*_fuzzer 2>/dev/null); \
+	if [ -z "$$fuzzers" ]; then echo "fuzz-smoke: no fuzzer in $(FUZZ_BUILD_DIR)/bin" >&2; exit 1; fi; \
+	mkdir -p $(FUZZ_BUILD_DIR)/logs $(FUZZ_BUILD_DIR)/artifacts; failed=""; \
+	for fuzzer in $$fuzzers; do \
+	  name=$$(basename $$fuzzer); corpus=$(FUZZ_BUILD_DIR)/corpus/$$name; log=$(FUZZ_BUILD_DIR)/logs/$$name.log; \
+	  mkdir -p $$corpus; seeds=tests/fuzz/seeds/$${name%_fuzzer}; [ -d $$seeds ] || seeds=; \
 	  dict=tests/fuzz/$${name%_fuzzer}.dict; dict_flag=; [ -f $$dict ] && dict_flag=-dict=$$dict; \
-	  $$fuzzer -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1 $$dict_flag \
-	    -artifact_prefix=build-fuzz/ $$corpus tests/fuzz/seeds/$${name%_fuzzer} 2>&1 | tail -n 12 || exit 1; \
-	done
+	  if $$fuzzer -max_total_time=$(FUZZ_SECONDS) -timeout=$(FUZZ_TIMEOUT) -max_len=65536 -rss_limit_mb=2048 \
+	      -print_final_stats=1 $$dict_flag -artifact_prefix=$(FUZZ_BUILD_DIR)/artifacts/$$name- $$corpus $$seeds > $$log 2>&1; then \
+	    echo "== $$name: $(FUZZ_SECONDS) s, $$(sed -n 's/^stat::number_of_executed_units: *//p' $$log) inputs, no finding"; \
+	  else \
+	    echo "== $$name: FAILED (exit $$?), log $$log:"; tail -n 40 $$log; failed="$$failed $$name"; \
+	  fi; \
+	done; \
+	if [ -n "$$failed" ]; then echo "fuzz-smoke: findings in:$$failed" >&2; exit 1; fi
 
 # ---- manifest-driven runs ---------------------------------------------------------
 # `make run MANIFEST=manifests/X.toml [DATASET_ROOT=...] -jN`: syn-plan checks the manifest and writes
@@ -331,4 +360,4 @@ cluster-down:
 	@tools/slurm/cluster-down.sh
 
 clean:
-	rm -rf $(BUILD_DIR) build-sanitize build-fuzz outputs
+	rm -rf $(BUILD_DIR) build-sanitize $(FUZZ_BUILD_DIR) outputs

@@ -1,6 +1,7 @@
 #include "common/file_bytes.h"
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -36,6 +37,16 @@ Buffer ReadAll(const std::string& path) {
 std::vector<uint8_t> ReadFileBytes(const std::string& path) { return ReadAll<std::vector<uint8_t>>(path); }
 std::string ReadFileText(const std::string& path) { return ReadAll<std::string>(path); }
 
+void PauseBeforeRenameIfRequested(const std::string& path, const std::string& temporary) {
+  const char* suffix = std::getenv("SYN_TEST_PAUSE_BEFORE_RENAME");
+  if (suffix == nullptr || *suffix == '\0') return;
+  const std::string wanted(suffix);
+  if (path.size() < wanted.size() || path.compare(path.size() - wanted.size(), wanted.size(), wanted) != 0) return;
+  std::fprintf(stderr, "syn: test hook: paused before renaming %s\n", temporary.c_str());
+  std::fflush(stderr);
+  for (int second = 0; second < 120; ++second) ::sleep(1);
+}
+
 void WriteFileAtomically(const std::string& path, const std::string& text) {
   const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
   {
@@ -47,6 +58,7 @@ void WriteFileAtomically(const std::string& path, const std::string& text) {
       throw DataError(Location::InFile(path), "cannot write " + temporary);
     }
   }
+  PauseBeforeRenameIfRequested(path, temporary);
   std::error_code error;
   std::filesystem::rename(temporary, path, error);
   if (error) {

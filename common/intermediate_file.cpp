@@ -10,6 +10,7 @@
 #include <functional>
 
 #include "common/error.h"
+#include "common/file_bytes.h"
 #include "common/sha256.h"
 #include "common/text_encoding.h"
 
@@ -237,6 +238,7 @@ void IntermediateWriter::writeAttribute(const std::string& object, const std::st
 void IntermediateWriter::commit() {
   CheckStatus(H5Fflush(handles_->file.get(), H5F_SCOPE_GLOBAL), path_, "cannot flush");
   handles_->file.reset();
+  PauseBeforeRenameIfRequested(path_, temporary_path_);
   std::error_code error;
   std::filesystem::rename(temporary_path_, path_, error);
   if (error) {

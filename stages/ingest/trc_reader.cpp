@@ -147,6 +147,11 @@ MarkerData ParseTrc(std::string_view text, const std::string& source_name) {
     if (ParseField(fields[0], &frame_number) != FieldValue::kNumber) throw fail("Frame# '" + std::string(fields[0]) + "' is not a number");
     if (ParseField(fields[1], &time) != FieldValue::kNumber) throw fail("Time '" + std::string(fields[1]) + "' is not a number");
     if (first_frame_number < 0) first_frame_number = static_cast<int64_t>(frame_number);
+    // Times increase: a row whose time does not is damaged (a file cut inside "0.01" reads as time 0).
+    if (!data.time_s.empty() && !(time > data.time_s.back())) {
+      throw fail("Time " + std::string(fields[1]) + " does not increase (previous row: " +
+                 std::to_string(data.time_s.back()) + ")");
+    }
     data.time_s.push_back(time);
     const size_t base = data.points.size();
     data.points.resize(base + markers * 3, std::nan(""));

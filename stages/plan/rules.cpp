@@ -46,7 +46,13 @@ bool WriteIfChanged(const std::string& path, const std::string& text) {
       if (current.str() == text) return false;
     }
   }
-  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  std::error_code error;
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), error);
+  if (error) {
+    throw DataError(Location::InFile(path), "cannot create its folder " +
+                                                std::filesystem::path(path).parent_path().string() + ": " +
+                                                error.message());
+  }
   WriteFileAtomically(path, text);
   return true;
 }

@@ -109,7 +109,7 @@ const CmuWalk* LoadCmuWalk(const Model& model, const std::vector<FootPoints>& fe
   retarget.model = root + "/datasets/robots/unitree_g1/g1_29dof.urdf";
   retarget.robot_map = root + "/manifests/robots/g1.toml";
   retarget.markerset = root + "/manifests/markersets/cmu-bvh.toml";
-  MotionData motion = Retarget(markers, retarget, nullptr);
+  MotionData motion = RetargetFile(markers, retarget, nullptr);
   std::filesystem::remove(markers);
   // The first 996 frames: 8.29 s of forward walking.
   const size_t frames = 996, nq = static_cast<size_t>(motion.nq()), nu = static_cast<size_t>(motion.nu());

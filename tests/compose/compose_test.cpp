@@ -184,8 +184,31 @@ TEST_F(ComposeTest, LimitViolationsAreScaledAndWarnedNeverClipped) {
       EXPECT_LE(std::abs(composed.motion.u[static_cast<size_t>(t * nu + joint.u_index)]), model_->uLimit()[joint.u_index] + 1e-8);
     }
   }
-  // Scaled, not clipped: a scaled joint's velocity is the full-scale one times its factor at every sample.
+  // Scaled, not clipped: each joint's velocity is the full-scale one times its step factor at every sample
+  // (a clipped joint would sit at its limit with zero velocity while the full-scale one moves on).
+  ASSERT_EQ(composed.step_scales.rows(), 1);
   EXPECT_LT(composed.step_scales.minCoeff(), 1.0);
+  const Composer composer(script, *library_, *model_, Composer::StartPose(script, *library_));
+  const StepScales full_scale = StepScales::Ones(1, nu);
+  Eigen::VectorXd full(nu);
+  int scaled_joints = 0;
+  for (const ModelJoint& joint : model_->joints()) {
+    if (joint.u_index < 0 || joint.type == "free") continue;
+    const double factor = composed.step_scales(0, joint.u_index);
+    scaled_joints += factor < 1.0;
+    double largest_full = 0;
+    for (int64_t t = 0; t < composed.motion.frames(); ++t) {
+      composer.velocityAt(composed.motion.time_s[static_cast<size_t>(t)], full_scale, full);
+      const double composed_u = composed.motion.u[static_cast<size_t>(t * nu + joint.u_index)];
+      largest_full = std::max(largest_full, std::abs(full[joint.u_index]));
+      EXPECT_NEAR(composed_u, factor * full[joint.u_index], 1e-9 * (1 + std::abs(full[joint.u_index])))
+          << joint.name << " (factor " << factor << ") frame " << t;
+    }
+    if (factor < 1.0) {
+      EXPECT_GT(largest_full, 0.0) << joint.name << " was scaled although it does not move";
+    }
+  }
+  EXPECT_GE(scaled_joints, 1);
 }
 
 TEST_F(ComposeTest, AScriptNamingAMissingSynergyFailsAtItsLine) {

@@ -148,21 +148,50 @@ TEST(BvhReader, MalformedInputIsLocated) {
   EXPECT_GT(ErrorLine(With(text, "Frames: 2", "Frames: 999999999999")), 0);
 }
 
-TEST(BvhReader, TruncatedAndGarbageInputsNeverCrash) {
-  const std::string text = kTwoBones;
-  for (size_t cut = 0; cut < text.size(); ++cut) {
-    try {
-      (void)ParseBvh(text.substr(0, cut), "cut.bvh", {});
-    } catch (const DataError&) {
-    }
+// Same numbers, NaN equal to NaN (missing stays missing).
+bool SameValues(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (!(a[i] == b[i] || (std::isnan(a[i]) && std::isnan(b[i])))) return false;
   }
+  return true;
+}
+
+// Every prefix of a small BVH, and a damaged copy, either reads as the whole file does (the cut fell in
+// trailing whitespace) or is refused with a DataError at a line of that file; never a crash, never a
+// half-read motion taken as whole.
+TEST(BvhReader, TruncatedAndGarbageInputsReadRightOrAreRefusedAtALine) {
+  const std::string text = kTwoBones;
+  const MarkerData full = ParseBvh(text, "full.bvh", {});
+  int read = 0, refused = 0;
+  const auto check = [&](const std::string& input, const std::string& name, size_t cut) {
+    try {
+      const MarkerData data = ParseBvh(input, name, {});
+      ++read;
+      EXPECT_EQ(data.frame_count(), full.frame_count()) << name << " cut at " << cut;
+      EXPECT_EQ(data.bodies, full.bodies) << name << " cut at " << cut;
+      EXPECT_TRUE(SameValues(data.body_pose, full.body_pose)) << name << " cut at " << cut;
+      EXPECT_TRUE(SameValues(data.points, full.points)) << name << " cut at " << cut;
+    } catch (const DataError& error) {
+      ++refused;
+      EXPECT_EQ(error.where().file, name) << error.what();
+      EXPECT_GT(error.where().line, 0) << name << " cut at " << cut << ": " << error.what();
+      EXPECT_NE(std::string(error.what()).find(name + ":"), std::string::npos) << error.what();
+    }
+  };
+  for (size_t cut = 0; cut < text.size(); ++cut) check(text.substr(0, cut), "cut.bvh", cut);
+  EXPECT_GE(read, 1) << "the cut of the final newline reads as the whole file";
+  EXPECT_GT(refused, static_cast<int>(text.size()) - 5);
   std::string garbage = text;
   for (size_t i = 0; i < garbage.size(); i += 7) garbage[i] = static_cast<char>((i * 131) % 256);
+  read = 0;
   try {
     (void)ParseBvh(garbage, "garbage.bvh", {});
-  } catch (const DataError&) {
+    ADD_FAILURE() << "a BVH with every 7th byte replaced was accepted";
+  } catch (const DataError& error) {
+    EXPECT_EQ(error.where().file, "garbage.bvh");
+    EXPECT_GT(error.where().line, 0) << error.what();
   }
-  SUCCEED();
 }
 
 struct IndexRow {

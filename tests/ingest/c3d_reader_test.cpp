@@ -225,24 +225,55 @@ TEST(C3dReader, QualisysGapsAreMissingNotZero) {
   EXPECT_EQ(zeros, 0u);
 }
 
-TEST(C3dReader, DamagedFilesNeverCrash) {
+bool SameValues(const double* a, const double* b, size_t count) {
+  for (size_t i = 0; i < count; ++i) {
+    if (!(a[i] == b[i] || (std::isnan(a[i]) && std::isnan(b[i])))) return false;
+  }
+  return true;
+}
+
+// A cut C3D either reads the whole frames present, exactly as the whole file has them, with a "truncated"
+// warning, or is refused with a DataError at a byte offset of that file. A damaged parameter section is
+// refused at a byte offset, or read into consistent arrays.
+TEST(C3dReader, DamagedFilesReadRightOrAreRefusedAtAByteOffset) {
   SYN_REQUIRE_SHARED("c3d/c3d_org/sample01/Eb015pi.c3d");
   const std::vector<uint8_t> original = ReadFileBytes(testing::SharedPath("c3d/c3d_org/sample01/Eb015pi.c3d"));
+  const MarkerData full = ParseC3d(original.data(), original.size(), "full.c3d");
+  int read_cut = 0, refused = 0;
   for (size_t cut = 0; cut < original.size(); cut += 97) {
+    SCOPED_TRACE("cut at byte " + std::to_string(cut));
     try {
-      (void)ParseC3d(original.data(), cut, "cut.c3d");
-    } catch (const DataError&) {
+      const MarkerData data = ParseC3d(original.data(), cut, "cut.c3d");
+      ++read_cut;
+      EXPECT_EQ(data.labels, full.labels);
+      ASSERT_LE(data.frame_count(), full.frame_count());
+      ASSERT_EQ(data.points.size(), static_cast<size_t>(data.frame_count()) * data.labels.size() * 3);
+      EXPECT_TRUE(SameValues(data.points.data(), full.points.data(), data.points.size()))
+          << "the frames read differ from the whole file's";
+      if (data.frame_count() < full.frame_count()) {
+        bool warned = false;
+        for (const std::string& warning : data.warnings) warned = warned || warning.find("truncated") != std::string::npos;
+        EXPECT_TRUE(warned) << data.frame_count() << " of " << full.frame_count() << " frames without a warning";
+      }
+    } catch (const DataError& error) {
+      ++refused;
+      EXPECT_EQ(error.where().file, "cut.c3d");
+      EXPECT_GE(error.where().byte_offset, 0) << error.what();
+      EXPECT_NE(std::string(error.what()).find("byte offset"), std::string::npos) << error.what();
     }
   }
+  EXPECT_GT(refused, 0);
   std::vector<uint8_t> damaged = original;
   for (size_t i = 512; i < 512 * 10; i += 13) {
     damaged[i] = static_cast<uint8_t>(damaged[i] * 31 + 7);
     try {
-      (void)ParseC3d(damaged.data(), damaged.size(), "damaged.c3d");
-    } catch (const DataError&) {
+      const MarkerData data = ParseC3d(damaged.data(), damaged.size(), "damaged.c3d");
+      EXPECT_EQ(data.points.size(), data.time_s.size() * data.labels.size() * 3) << "byte " << i;
+    } catch (const DataError& error) {
+      EXPECT_EQ(error.where().file, "damaged.c3d");
+      EXPECT_GE(error.where().byte_offset, 0) << "byte " << i << ": " << error.what();
     }
   }
-  SUCCEED();
 }
 
 }  // namespace

@@ -276,23 +276,57 @@ TEST(FuzzRegressions, EachEndsInADataError) {
   EXPECT_GE(count, 1);
 }
 
-TEST(TextReaders, DamagedInputsNeverCrash) {
+// Every prefix of a small TRC either reads the frames whose lines are whole, as the whole file has them, or
+// is refused with a DataError at a line of that file; a short NPY header is refused at a byte offset.
+TEST(TextReaders, DamagedInputsReadRightOrAreRefusedWithALocation) {
   const std::string trc = "PathFileType\t4\t(X/Y/Z)\tx.trc\nDataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\n100\t100\t2\t1\tmm\n"
                           "Frame#\tTime\tA\t\t\n\t\tX1\tY1\tZ1\n1\t0\t1\t2\t3\n2\t0.01\t4\t5\t6\n";
+  const MarkerData full = ParseTrc(trc, "full.trc");
+  ASSERT_EQ(full.frame_count(), 2);
+  int read = 0, refused = 0;
   for (size_t cut = 0; cut < trc.size(); ++cut) {
+    SCOPED_TRACE("cut at byte " + std::to_string(cut));
     try {
-      (void)ParseTrc(trc.substr(0, cut), "cut.trc");
-    } catch (const DataError&) {
+      const MarkerData data = ParseTrc(trc.substr(0, cut), "cut.trc");
+      ++read;
+      // What differs from the whole file is said: labels cut off are named Marker<N> and rows cut off are
+      // counted against NumFrames, each with a warning.
+      const auto warned = [&](const std::string& about) {
+        for (const std::string& warning : data.warnings) {
+          if (warning.find(about) != std::string::npos) return true;
+        }
+        return false;
+      };
+      if (data.labels != full.labels) {
+        EXPECT_TRUE(warned("NumMarkers says")) << data.labels[0];
+      }
+      if (data.frame_count() != full.frame_count()) {
+        EXPECT_TRUE(warned("NumFrames says")) << data.frame_count();
+      }
+      ASSERT_LE(data.frame_count(), full.frame_count());
+      ASSERT_EQ(data.points.size(), static_cast<size_t>(data.frame_count()) * 3);
+      for (int64_t t = 0; t < data.frame_count(); ++t) EXPECT_EQ(data.time_s[t], full.time_s[t]) << "frame " << t;
+      for (size_t k = 0; k < data.points.size(); ++k) {
+        // A value is the whole file's, or missing: a cut number ("4" of "45") must never pass as a value.
+        EXPECT_TRUE(data.points[k] == full.points[k] || std::isnan(data.points[k])) << k << ": " << data.points[k];
+      }
+    } catch (const DataError& error) {
+      ++refused;
+      EXPECT_EQ(error.where().file, "cut.trc");
+      EXPECT_GT(error.where().line, 0) << error.what();
     }
   }
+  EXPECT_GE(read, 1);
+  EXPECT_GT(refused, 0);
   std::vector<uint8_t> npy = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0, 200, 0};
   try {
     (void)ParseNpy(npy.data(), npy.size(), "short.npy");
-    ADD_FAILURE();
+    ADD_FAILURE() << "a 10-byte NPY was accepted";
   } catch (const DataError& error) {
+    EXPECT_EQ(error.where().file, "short.npy");
+    EXPECT_GE(error.where().byte_offset, 0);
     EXPECT_NE(std::string(error.what()).find("byte offset"), std::string::npos);
   }
-  SUCCEED();
 }
 
 }  // namespace

@@ -1,12 +1,19 @@
 // syn-plan's rules rebuild exactly what a change affects (issue: manifest-driven make).
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "tests/support/run_command.h"
 #include "tests/support/shared_data.h"
@@ -86,32 +93,89 @@ TEST_F(IncrementalMake, RebuildsOnlyWhatAChangeAffects) {
   EXPECT_EQ(pendingOutputs(), (std::set<std::string>{"outputs/tiny/trials/walk/markers.h5"}));
 }
 
+// Runs `make all` in `dir` as the leader of a new process group, with the writer of every file ending in
+// `pause_suffix` paused just before its rename (common/file_bytes.h, PauseBeforeRenameIfRequested). Started
+// with fork/exec rather than `sh -c '... &'`: a non-interactive shell starts background jobs with SIGINT
+// ignored, and then SIGINT would test nothing.
+pid_t StartPausedMake(const std::string& dir, const std::string& pause_suffix) {
+  const pid_t pid = ::fork();
+  if (pid != 0) return pid;
+  ::setsid();
+  if (::chdir(dir.c_str()) != 0) ::_exit(127);
+  ::setenv("SYN_TEST_PAUSE_BEFORE_RENAME", pause_suffix.c_str(), 1);
+  if (std::freopen("run.log", "w", stdout) == nullptr) ::_exit(127);
+  ::dup2(STDOUT_FILENO, STDERR_FILENO);
+  const std::string bin = "SYN_BIN=" + std::string(SYN_BIN_DIR);
+  ::execlp("make", "make", "-s", "-f", "outputs/tiny/rules.mk", bin.c_str(), "all", static_cast<char*>(nullptr));
+  ::_exit(127);
+}
+
+std::string ReadWholeFile(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Temporaries (NAME.tmp-<pid>) beside `final_path`.
+std::vector<std::string> TemporariesOf(const std::string& final_path) {
+  std::vector<std::string> found;
+  const fs::path target(final_path);
+  for (const auto& entry : fs::directory_iterator(target.parent_path())) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(target.filename().string() + ".tmp-", 0) == 0) found.push_back(entry.path().string());
+  }
+  return found;
+}
+
 TEST_F(IncrementalMake, KilledJobLeavesNoFileTakenAsDone) {
-  // A manifest with a robot, so each trial runs ingest and then retarget (about a second).
+  // A manifest with a robot, so the trial runs ingest and then retarget (the shortest bundled capture).
   std::ofstream(dir_ + "/tiny.toml") << "name = \"tiny\"\nroot = \"captures\"\n"
                                      << "model = \"" << SourcePath("datasets/robots/unitree_g1/g1_29dof.urdf") << "\"\n"
                                      << "robot_map = \"" << SourcePath("manifests/robots/g1.toml") << "\"\n"
                                      << "markerset = \"" << SourcePath("manifests/markersets/cmu-bvh.toml") << "\"\n"
-                                     << "[[trial]]\nid = \"dance\"\nfile = \"05_02.bvh\"\ndrop_first_frame = true\n";
-  fs::copy_file(SourcePath("datasets/demo/05_02.bvh"), dir_ + "/captures/05_02.bvh");
+                                     << "[[trial]]\nid = \"jacks\"\nfile = \"14_14_excerpt.bvh\"\n";
   ASSERT_EQ(plan().exit_code, 0);
-  const std::string motion = dir_ + "/outputs/tiny/trials/dance/motion.h5";
-  // Start the run, wait until retarget is working, then SIGKILL the whole process group mid-stage.
-  const CommandResult killed = RunCommand(
-      "cd " + dir_ + " && (setsid make -s -f outputs/tiny/rules.mk SYN_BIN=" + std::string(SYN_BIN_DIR) +
-      " all > run.log 2>&1 & echo $! > make.pid); for i in $(seq 1 200); do pgrep -f 'syn-retarget.*" + dir_ +
-      "' > /dev/null && break; sleep 0.02; done; sleep 0.2; kill -9 -- -$(cat make.pid); sleep 0.3");
-  (void)killed;
-  EXPECT_FALSE(fs::exists(motion)) << "a killed stage left its output behind";
-  // Leftover temporaries (a stage killed while writing) never count as done.
-  std::ofstream(motion + ".tmp-12345") << "partial";
-  EXPECT_TRUE(pendingOutputs().count("outputs/tiny/trials/dance/motion.h5"));
-  const CommandResult resumed = make("");
-  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
-  const CommandResult inspect = RunCommand(BinPath("syn-inspect") + " " + motion);
-  EXPECT_EQ(inspect.exit_code, 0) << inspect.output;
-  EXPECT_NE(inspect.output.find("synsculpt.motion"), std::string::npos);
-  EXPECT_TRUE(pendingOutputs().empty());
+  const std::string motion = dir_ + "/outputs/tiny/trials/jacks/motion.h5";
+  const std::string motion_target = "outputs/tiny/trials/jacks/motion.h5";
+
+  for (const int signal : {SIGKILL, SIGTERM, SIGINT}) {
+    SCOPED_TRACE(std::string("signal ") + strsignal(signal));
+    fs::remove(motion);
+    fs::remove(motion + ".log");
+    // syn-retarget has written the whole of motion.h5.tmp-<pid> and is about to rename it: the worst moment.
+    const pid_t make_pid = StartPausedMake(dir_, "motion.h5");
+    ASSERT_GT(make_pid, 0);
+    // The stage's stderr goes to motion.h5.log (syn-plan's rules), where the hook says it has paused.
+    bool paused = false;
+    for (int tick = 0; tick < 1200 && !paused; ++tick) {  // up to 120 s on a loaded machine
+      paused = ReadWholeFile(motion + ".log").find("test hook: paused before renaming") != std::string::npos;
+      if (!paused) ::usleep(100000);
+    }
+    const std::vector<std::string> temporaries = TemporariesOf(motion);
+    ::kill(-make_pid, signal);  // the whole group: make, its shell and syn-retarget
+    int status = 0;
+    ::waitpid(make_pid, &status, 0);
+    for (int tick = 0; tick < 100 && ::kill(-make_pid, 0) == 0; ++tick) ::usleep(100000);  // the group is gone
+    ASSERT_TRUE(paused) << "syn-retarget never reached the rename: " << ReadWholeFile(dir_ + "/run.log")
+                        << ReadWholeFile(motion + ".log");
+    EXPECT_EQ(temporaries.size(), 1u) << "the complete temporary should exist when the signal lands";
+    EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "make finished although it was killed";
+
+    // Nothing that looks finished: no motion.h5, and make still wants to build it (a leftover temporary, as
+    // SIGKILL leaves, never counts as done).
+    EXPECT_FALSE(fs::exists(motion)) << "a killed stage left " << motion << " behind";
+    EXPECT_EQ(pendingOutputs().count(motion_target), 1u);
+
+    // The rerun completes and writes a readable motion file.
+    const CommandResult resumed = make("");
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+    const CommandResult inspect = RunCommand(BinPath("syn-inspect") + " " + motion);
+    EXPECT_EQ(inspect.exit_code, 0) << inspect.output;
+    EXPECT_NE(inspect.output.find("synsculpt.motion"), std::string::npos);
+    EXPECT_TRUE(pendingOutputs().empty());
+    for (const std::string& leftover : TemporariesOf(motion)) fs::remove(leftover);
+  }
 }
 
 // A launcher that reports success without running the job (srun can exit 0 for a step that never started)
@@ -241,6 +305,19 @@ TEST(Release, TwoCleanBuildsGiveTheSameTar) {
     EXPECT_NE(listing.output.find("tiny-1.2.3/summary/segments.csv"), std::string::npos);
     EXPECT_NE(listing.output.find("tiny-1.2.3/SHA256SUMS"), std::string::npos);
     EXPECT_NE(listing.output.find("tiny-1.2.3/provenance.json"), std::string::npos);
+    // SHA256SUMS lists every other file of the unpacked release, and each digest holds.
+    const std::string unpacked = dir + "/unpacked";
+    fs::remove_all(unpacked);
+    fs::create_directories(unpacked);
+    ASSERT_EQ(RunCommand("tar xf " + tar + " -C " + unpacked).exit_code, 0);
+    const CommandResult check = RunCommand("cd " + unpacked + "/tiny-1.2.3 && sha256sum -c --strict SHA256SUMS");
+    EXPECT_EQ(check.exit_code, 0) << check.output;
+    const CommandResult files = RunCommand("cd " + unpacked + "/tiny-1.2.3 && find . -type f ! -name SHA256SUMS | wc -l");
+    const CommandResult sums = RunCommand("wc -l < " + unpacked + "/tiny-1.2.3/SHA256SUMS");
+    EXPECT_EQ(std::stoi(files.output), std::stoi(sums.output)) << "every file has its digest";
+    EXPECT_EQ(static_cast<int>(std::count(check.output.begin(), check.output.end(), '\n')), std::stoi(sums.output))
+        << check.output;
+    EXPECT_EQ(check.output.find("FAILED"), std::string::npos) << check.output;
   }
   EXPECT_EQ(digests[0], digests[1]);
   EXPECT_EQ(digests[0].size(), 65u);  // 64 hex digits and a newline

@@ -36,6 +36,9 @@ struct Capture {
 
 struct Robot {
   std::string name, urdf, map;
+  // Priority-1 landmark position error bounds per capture, mm (median, p95): the worst capture of the sweep
+  // with the defaults, plus a margin (measured values at the SweepOnto calls below).
+  double max_p1_median_mm = 0, max_p1_p95_mm = 0;
 };
 
 std::vector<Capture> RealCaptures() {
@@ -143,6 +146,8 @@ void SweepOnto(const Robot& robot) {
       if (std::isfinite(summary.median_angle_error[1])) {
         EXPECT_LT(summary.median_angle_error[0], summary.median_angle_error[1]);
       }
+      EXPECT_LT(1000 * summary.median_position_error[0], robot.max_p1_median_mm) << "priority-1 median error, mm";
+      EXPECT_LT(1000 * summary.p95_position_error[0], robot.max_p1_p95_mm) << "priority-1 p95 error, mm";
       const double deg = 180.0 / M_PI;
       std::fprintf(stderr, "%-44s %-7s %6lld  %8.1f / %-10.1f %8.2f / %-12.2f %8.2f / %-12.2f %.3f rad (%s)\n",
                    name.c_str(), robot.name.c_str(), static_cast<long long>(frames),
@@ -161,7 +166,9 @@ TEST(RetargetRealData, EveryCaptureOntoG1) {
   GTEST_SKIP() << "the real-data retarget sweep runs in the Release test run, not under the sanitizers";
 #endif
   SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
-  SweepOnto({"G1", testing::SourcePath(testing::kG1Urdf), testing::SourcePath(testing::kG1Map)});
+  // Measured (build/bin/test_retarget --gtest_filter=RetargetRealData.EveryCaptureOntoG1, 2026-11-23): the
+  // median of the 55 captures' P1 medians is 43 mm; the worst median 102 mm (08_07.bvh), the worst p95 328 mm.
+  SweepOnto({"G1", testing::SourcePath(testing::kG1Urdf), testing::SourcePath(testing::kG1Map), 120.0, 400.0});
 }
 
 TEST(RetargetRealData, EveryCaptureOntoHrp4c) {
@@ -170,8 +177,11 @@ TEST(RetargetRealData, EveryCaptureOntoHrp4c) {
 #endif
   SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
   SYN_REQUIRE_SHARED("robots/humanoid_synergies/HRP4c_optitrack_model.urdf");
+  // Measured as for the G1: worst median 269 mm (08_07.bvh; 94_15 231, 03_02 230), worst p95 581 mm (08_07).
+  // These are today's HRP-4C numbers, far worse than the G1's: the bound stops them getting worse and is to be
+  // tightened when the retargeter tracks HRP-4C as well as the G1.
   SweepOnto({"HRP-4C", testing::SharedPath("robots/humanoid_synergies/HRP4c_optitrack_model.urdf"),
-             testing::SourcePath("manifests/robots/hrp4c.toml")});
+             testing::SourcePath("manifests/robots/hrp4c.toml"), 300.0, 650.0});
 }
 
 // OptiTrack's older leg-only export (12 Foot/Knee/Leg markers) cannot drive a whole humanoid: the stage
