@@ -20,6 +20,10 @@ void WriteMotionData(IntermediateWriter& writer, const MotionData& motion) {
     writer.writeDoubles("landmark_targets", {frames, landmarks, 7}, motion.landmark_targets.data());
     writer.writeDoubles("landmark_error", {frames, landmarks, 2}, motion.landmark_error.data());
   }
+  if (!motion.contact_feet.empty()) {
+    writer.writeStrings("contact_feet", motion.contact_feet);
+    writer.writeInts("contact", {frames, static_cast<int64_t>(motion.contact_feet.size())}, motion.contact.data());
+  }
   writer.writeAttribute("", "model_name", motion.model_name);
   writer.writeAttribute("", "model_sha256", motion.model_sha256);
   writer.writeAttribute("", "total_mass", motion.total_mass);
@@ -47,6 +51,14 @@ MotionData ReadMotionFile(const std::string& path) {
     motion.landmark_names = reader.readStrings("landmark_names");
     motion.landmark_targets = reader.readDoubles("landmark_targets").values;
     motion.landmark_error = reader.readDoubles("landmark_error").values;
+  }
+  if (reader.has("contact_feet")) {
+    motion.contact_feet = reader.readStrings("contact_feet");
+    motion.contact = reader.readInts("contact");
+    if (motion.contact.size() != static_cast<size_t>(motion.frames()) * motion.contact_feet.size()) {
+      throw DataError(Location::InFile(path), "dataset 'contact' should be [" + std::to_string(motion.frames()) + ", " +
+                                                  std::to_string(motion.contact_feet.size()) + "]");
+    }
   }
   motion.model_name = reader.readStringAttribute("", "model_name");
   motion.model_sha256 = reader.readStringAttribute("", "model_sha256");

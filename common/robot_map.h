@@ -48,6 +48,12 @@ struct RobotMap {
   int posture_priority = 3;
   double posture_weight = 1.0;
   std::map<std::string, double> reference_stance;  // joint name -> q (rad or m); others 0
+  // The posture task's target and the IK's first warm start, where it differs from the reference stance
+  // (joint name -> q). A slightly flexed knee here keeps a near-straight leg on its natural branch: from
+  // a straight start the tracking tasks cannot tell +θ from −θ, and a knee that starts bending backwards
+  // ends on its lower limit. The reference stance itself stays the pose the capture's reference frame
+  // is matched to.
+  std::map<std::string, double> posture_target;
   std::vector<RobotFoot> feet;
 };
 
