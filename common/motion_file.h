@@ -8,7 +8,9 @@
 // landmark_targets[T,L,7] (position m, quaternion w,x,y,z; NaN = no target)
 // and landmark_error[T,L,2] (position m, angle rad); optional (readers accept files without them):
 // contact_feet[F] (foot sides) and contact[T,F] (1 = the source's foot is planted, syn-retarget's
-// contact detection). Root attributes:
+// contact detection); with a free base, contact_force[T,F,3] (N, ground frame: each foot's share of
+// the base's residual wrench that admissible contact forces explain) and unexplained_wrench[T,6] (the
+// rest: moment about the pelvis origin N·m, then force N). Root attributes:
 // model_name, model_sha256, total_mass (kg).
 #pragma once
 
@@ -38,6 +40,8 @@ struct MotionData {
 
   std::vector<std::string> contact_feet;      // [F], may be empty
   std::vector<int64_t> contact;               // [T, F]: 1 = planted
+  std::vector<double> contact_force;          // [T, F, 3], may be empty
+  std::vector<double> unexplained_wrench;     // [T, 6], may be empty
 
   std::string model_name;
   std::string model_sha256;

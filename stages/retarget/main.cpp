@@ -82,6 +82,9 @@ int main(int argc, char** argv) {
   app.add_option("--contact-min-duration", options.contact.min_duration,
                  "Contact phases shorter than this (s) are dropped (0.1 s: the shortest human stance, sprinting)")
       ->capture_default_str();
+  app.add_option("--contact-blend", options.contact_blend,
+                 "After a contact ends, the foot's target moves from its planted pose to the capture's over this time (s)")
+      ->capture_default_str();
   return syn::RunTool(app, argc, argv, [&] { return options.ToJson(); }, [&] {
     std::string problem;
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);

@@ -10,6 +10,7 @@
 #include "common/configuration_space.h"
 #include "common/error.h"
 #include "common/markers_file.h"
+#include "stages/retarget/contact_forces.h"
 #include "stages/retarget/frame_ik.h"
 #include "stages/retarget/landmarks.h"
 #include "stages/retarget/trajectory_refinement.h"
@@ -384,16 +385,47 @@ void SolveFrames(const LandmarkTrajectories& landmarks, const TrackedTasks& task
   const size_t feet = foot_states.size() / static_cast<size_t>(std::max<int64_t>(frames, 1));  // 0: no constraints
   std::vector<IkTarget> targets(tasks.size());
   std::vector<FootState> feet_now(feet);
+  // Lift-off: the foot's task target leaves its planted pose gradually over --contact-blend seconds
+  // (lifted_at: the time the contact ended, NaN while planted or after the blend), or the foot would
+  // jump from where it stood to where the capture's foot already is in one frame.
+  std::vector<double> lifted_at(feet, std::nan(""));
+  std::vector<Eigen::Isometry3d> lifted_from(feet);
+  std::vector<int> foot_task(feet, -1);
+  for (size_t f = 0; f < feet; ++f) {
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      if (tasks.ik[i].link == ik.feet()[f].link) foot_task[f] = static_cast<int>(i);
+    }
+  }
   Eigen::VectorXd q = q_ref;
   double last_solved_time = std::nan("");  // the first solve may travel from q_ref freely
   for (int64_t t = 0; t < frames; ++t) {
+    const double now = motion.time_s[static_cast<size_t>(t)];
     // A contact continues from the previous frame (planted where it touched down) or begins here.
     for (size_t f = 0; f < feet; ++f) {
       const bool planted = contacts.at(t, static_cast<int>(f));
+      if (!planted && feet_now[f].mode == FootMode::kPlanted) lifted_at[f] = now, lifted_from[f] = feet_now[f].planted;
+      if (planted) lifted_at[f] = std::nan("");
       if (!planted) feet_now[f].mode = FootMode::kFree;
       else if (feet_now[f].mode == FootMode::kFree) feet_now[f].mode = FootMode::kTouchdown;
     }
-    if (!FrameTargets(landmarks, tasks, reference_samples, link_reference, alignment, t, targets, motion)) {
+    const bool has_targets = FrameTargets(landmarks, tasks, reference_samples, link_reference, alignment, t, targets, motion);
+    for (size_t f = 0; f < feet && has_targets; ++f) {
+      if (!std::isfinite(lifted_at[f]) || foot_task[f] < 0) continue;
+      // Smoothstep from the planted pose (s = 0) to the capture's (s = 1).
+      const double x = options.contact_blend > 0 ? (now - lifted_at[f]) / options.contact_blend : 1.0;
+      if (x >= 1.0) {
+        lifted_at[f] = std::nan("");
+        continue;
+      }
+      const double blend = x * x * (3 - 2 * x);
+      IkTarget& target = targets[static_cast<size_t>(foot_task[f])];
+      if (!target.active) continue;
+      target.position = lifted_from[f].translation() + blend * (target.position - lifted_from[f].translation());
+      if (target.has_orientation) {
+        target.orientation = Eigen::Quaterniond(lifted_from[f].linear()).slerp(blend, target.orientation);
+      }
+    }
+    if (!has_targets) {
       bridged.push_back(t);
       ik.forgetHistory();
       for (FootState& state : feet_now) state.mode = FootMode::kFree;  // the bridge is interpolated, unconstrained
@@ -546,6 +578,45 @@ void ComputeDynamics(const Model& model, Workspace& workspace, MotionData& motio
   }
 }
 
+// The free base's residual wrench split into contact forces and the unexplained rest (contact_forces.h).
+void SplitBaseResidual(const Model& model, Workspace& workspace, const std::vector<IkFoot>& feet, MotionData& motion,
+                       RetargetSummary& report) {
+  if (!model.hasFreeBase() || feet.empty()) return;
+  const int64_t frames = motion.frames(), nq = model.nq(), nu = model.nu();
+  int points = 0;
+  std::vector<int> foot_of_point;
+  for (size_t f = 0; f < feet.size(); ++f) {
+    points += static_cast<int>(feet[f].sole_points.size());
+    foot_of_point.insert(foot_of_point.end(), feet[f].sole_points.size(), static_cast<int>(f));
+  }
+  ContactForceSplit splitter(points, ContactForceOptions{});
+  std::vector<Eigen::Vector3d> world(static_cast<size_t>(points)), foot_force;
+  motion.contact_force.assign(static_cast<size_t>(frames) * feet.size() * 3, 0.0);
+  motion.unexplained_wrench.assign(static_cast<size_t>(frames) * 6, 0.0);
+  Eigen::VectorXd q(nq);
+  Eigen::Matrix<double, 6, 1> residual, unexplained;
+  std::vector<double> force_norm, moment_norm;
+  for (int64_t t = 0; t < frames; ++t) {
+    q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
+    workspace.setQ(q);
+    size_t p = 0;
+    for (const IkFoot& foot : feet) {
+      const Eigen::Isometry3d pose = workspace.findLinkPose(foot.link);
+      for (const Eigen::Vector3d& point : foot.sole_points) world[p++] = pose * point;
+    }
+    residual = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(&motion.tau[static_cast<size_t>(t * nu)]);
+    splitter.split(world, foot_of_point, static_cast<int>(feet.size()), q.segment<3>(4), residual, foot_force, unexplained);
+    for (size_t f = 0; f < feet.size(); ++f) {
+      std::copy_n(foot_force[f].data(), 3, &motion.contact_force[(static_cast<size_t>(t) * feet.size() + f) * 3]);
+    }
+    std::copy_n(unexplained.data(), 6, &motion.unexplained_wrench[static_cast<size_t>(t) * 6]);
+    moment_norm.push_back(unexplained.head<3>().norm());
+    force_norm.push_back(unexplained.tail<3>().norm());
+  }
+  report.median_unexplained_force = Percentile(force_norm, 0.5);
+  report.median_unexplained_torque = Percentile(moment_norm, 0.5);
+}
+
 // Continuity: the largest per-frame change of any joint coordinate.
 void FindWorstJointStep(const Model& model, const MotionData& motion, RetargetSummary& report) {
   const int64_t nq = model.nq();
@@ -598,6 +669,7 @@ bool RetargetOptions::IsValid(std::string* error) const {
   if (!(scale >= 0)) return fail("--scale must be auto or a positive number");
   if (max_bridge < 0) return fail("--max-bridge must be >= 0");
   if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
+  if (!(contact_blend >= 0)) return fail("--contact-blend must be >= 0 (s)");
   return contact.IsValid(error);
 }
 
@@ -608,7 +680,7 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"scale", scale_json}, {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale},
           {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"contacts", contacts},
           {"contact_height", contact.height}, {"contact_speed", contact.speed}, {"contact_release", contact.release},
-          {"contact_min_duration", contact.min_duration}, {"chain_proportions", chain_proportions}};
+          {"contact_min_duration", contact.min_duration}, {"contact_blend", contact_blend}, {"chain_proportions", chain_proportions}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -629,6 +701,10 @@ std::string RetargetSummary::BriefReport() const {
         << " mm below the floor";
     if (deepest_frame >= 0) out << " (frame " << deepest_frame << ")";
     out << ", " << constraint_violations << " frames with unmet contact constraints";
+    if (std::isfinite(median_unexplained_force)) {
+      out << "; base residual no contact explains: median " << median_unexplained_force << " N, "
+          << median_unexplained_torque << " N m";
+    }
   }
   return out.str();
 }
@@ -714,6 +790,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   for (const RobotFoot& foot : map.feet) report.foot_sides.push_back(foot.side);
   if (feet) MeasureContacts(ik, model, workspace, contacts, tasks, motion, report);
   ComputeDynamics(model, workspace, motion);
+  if (feet) SplitBaseResidual(model, workspace, ik.feet(), motion, report);
   FindWorstJointStep(model, motion, report);
   report.frames = frames;
   return motion;

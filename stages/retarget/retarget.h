@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,9 @@ struct RetargetOptions {
   // stays at z >= 0 in every frame: exact constraints above every task. false: no contact constraints.
   bool contacts = true;
   ContactDetectionOptions contact;
+  // After a contact ends, the foot's target moves from its planted pose to the capture's over this time
+  // (s, smoothstep), so lift-off is not a jump: 0.1 s is about a third of a walking swing phase.
+  double contact_blend = 0.1;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;
@@ -97,6 +101,8 @@ struct RetargetSummary {
   double deepest_penetration = 0.0;
   int64_t deepest_frame = -1;
   int64_t constraint_violations = 0;
+  // Median over frames of the base residual no admissible contact force explains (free base only; NaN otherwise).
+  double median_unexplained_force = std::nan(""), median_unexplained_torque = std::nan("");
   // The worst frames by P1 position error (frame, m), for -v.
   std::vector<std::pair<int64_t, double>> worst_frames;
   std::vector<std::string> notes;
