@@ -54,6 +54,11 @@ struct RobotMap {
   // ends on its lower limit. The reference stance itself stays the pose the capture's reference frame
   // is matched to.
   std::map<std::string, double> posture_target;
+  // Branch constraints: the IK keeps these joints at or above this value (joint name -> q), tighter than
+  // the URDF's lower limit. A knee whose URDF range reaches a few degrees backwards (G1: −5°) otherwise
+  // crosses to the mirrored branch as the leg straightens (the previous step's momentum carries it over
+  // zero) and then locks on that limit while the real knee bends forward again.
+  std::map<std::string, double> branch_lower_bound;
   std::vector<RobotFoot> feet;
 };
 

@@ -182,6 +182,7 @@ struct FrameIk::Impl {
   Eigen::Matrix<double, 6, Eigen::Dynamic> foot_jacobian;
   Eigen::VectorXd q0, q_now, q_next, step, box_lower, box_upper;
   std::vector<uint8_t> touching_down;  // per foot, during one solve
+  Eigen::VectorXd saved_delta;
 
   static int MaxContactRows(const std::vector<IkFoot>& feet) {
     int rows = 0;
@@ -328,6 +329,7 @@ struct FrameIk::Impl {
   // configuration to project, delta = 0). delta's box: step_lower/step_upper. Returns the violation left.
   double enforceContacts(const std::vector<FootState>& states, bool track) {
     double violation = 0;
+    saved_delta = delta;
     for (int iteration = 0; iteration < options.max_contact_iterations; ++iteration) {
       Integrate(shape, q0.data(), delta.data(), q_now.data());
       bool needed = false;
@@ -343,10 +345,27 @@ struct FrameIk::Impl {
       } else {
         violation = contact_step.solve(nullptr, nullptr, 0.0, box_lower, box_upper, step);
       }
+      // A trust region: Gauss–Newton without a line search can overshoot far from the constraints.
+      const double largest = step.lpNorm<Eigen::Infinity>();
+      if (largest > options.max_contact_step) step *= options.max_contact_step / largest;
       // The step is a velocity at q_now; delta stays relative to q0.
       Integrate(shape, q_now.data(), step.data(), q_next.data());
       Difference(shape, q0.data(), q_next.data(), delta.data());
       if (step.lpNorm<Eigen::Infinity>() < options.contact_tolerance) break;
+    }
+    // Constraints that cannot be met (joint limits, the step bound, a pose the legs cannot reach) are
+    // dropped for this frame rather than forced into a wild configuration: the violation is reported.
+    if (violation > options.max_contact_violation) {
+      delta = saved_delta;
+      Integrate(shape, q0.data(), delta.data(), q_now.data());
+      bool needed = false;
+      const int rows = fillContactRows(states, q_now, contact_step.a(), contact_step.c(), &contact_step.inequality(),
+                                       /*only_violated=*/false, &needed);
+      violation = 0;
+      for (int i = 0; i < rows; ++i) {
+        const double value = contact_step.c()[i];
+        violation = std::max(violation, contact_step.inequality()[static_cast<size_t>(i)] ? -value : std::abs(value));
+      }
     }
     return violation;
   }
@@ -542,6 +561,19 @@ int FrameIk::linearizeContacts(const std::vector<FootState>& feet, const Eigen::
   a.topRows(rows) = work.topRows(rows);
   c.head(rows) = values.head(rows);
   return rows;
+}
+
+void FrameIk::restrictLower(int q_index, double value) {
+  Impl& impl = *impl_;
+  const int u = q_index - impl.q_offset;
+  if (u >= impl.first_joint && u < impl.model.nu()) impl.lower[u] = std::min(std::max(impl.lower[u], value), impl.upper[u]);
+}
+
+void FrameIk::taskPoses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses) {
+  Impl& impl = *impl_;
+  impl.workspace.setQ(q);
+  poses.resize(impl.tasks.size());
+  for (size_t i = 0; i < impl.tasks.size(); ++i) poses[i] = impl.workspace.findLinkPose(impl.tasks[i].link);
 }
 
 const std::vector<IkFoot>& FrameIk::feet() const { return impl_->feet; }

@@ -85,6 +85,11 @@ struct FrameIkOptions {
   int max_contact_iterations = 8;
   double contact_tolerance = 1e-7;
   double contact_damping = 1e-4;
+  // Each contact step moves no coordinate more than this (rad or m): a trust region.
+  double max_contact_step = 0.25;
+  // When the constraints are still further than this from met after the steps (m or rad), the frame keeps
+  // its tracking solution instead (the violation is reported), rather than a configuration forced far off.
+  double max_contact_violation = 0.01;
 };
 
 struct FrameIkSummary {
@@ -126,6 +131,12 @@ class FrameIk {
   // every sole point of a free foot that is below the floor. Returns the number of rows.
   int linearizeContacts(const std::vector<FootState>& feet, const Eigen::VectorXd& q, Eigen::VectorXd& c,
                         Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& a);
+
+  // Keeps coordinate q_index at or above `value` in every solve (a branch constraint, tighter than the URDF).
+  void restrictLower(int q_index, double value);
+
+  // Each task link's pose at q.
+  void taskPoses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses);
 
   // The robot's feet as given to the constructor, and the lowest sole point height (m) at q.
   const std::vector<IkFoot>& feet() const;

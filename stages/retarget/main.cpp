@@ -83,7 +83,8 @@ int main(int argc, char** argv) {
                  "Contact phases shorter than this (s) are dropped (0.1 s: the shortest human stance, sprinting)")
       ->capture_default_str();
   app.add_option("--contact-blend", options.contact_blend,
-                 "After a contact ends, the foot's target moves from its planted pose to the capture's over this time (s)")
+                 "At a lift-off, every task's error at the last planted frame decays to zero over this time (s) instead of "
+                 "jumping in one frame")
       ->capture_default_str();
   return syn::RunTool(app, argc, argv, [&] { return options.ToJson(); }, [&] {
     std::string problem;

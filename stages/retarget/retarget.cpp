@@ -385,46 +385,58 @@ void SolveFrames(const LandmarkTrajectories& landmarks, const TrackedTasks& task
   const size_t feet = foot_states.size() / static_cast<size_t>(std::max<int64_t>(frames, 1));  // 0: no constraints
   std::vector<IkTarget> targets(tasks.size());
   std::vector<FootState> feet_now(feet);
-  // Lift-off: the foot's task target leaves its planted pose gradually over --contact-blend seconds
-  // (lifted_at: the time the contact ended, NaN while planted or after the blend), or the foot would
-  // jump from where it stood to where the capture's foot already is in one frame.
-  std::vector<double> lifted_at(feet, std::nan(""));
-  std::vector<Eigen::Isometry3d> lifted_from(feet);
-  std::vector<int> foot_task(feet, -1);
-  for (size_t f = 0; f < feet; ++f) {
-    for (size_t i = 0; i < tasks.size(); ++i) {
-      if (tasks.ik[i].link == ik.feet()[f].link) foot_task[f] = static_cast<int>(i);
-    }
-  }
+  // Lift-off: while a foot was planted, the tasks it holds back (the foot itself, the pelvis a planted
+  // leg cannot bring all the way) were left off their targets; released at once, they would jump there
+  // in one frame. So at a lift-off every task's error at the last planted frame is carried into its
+  // target and decays to zero over --contact-blend seconds (smoothstep).
+  double lifted_at = std::nan("");
+  std::vector<Eigen::Vector3d> carried_position(tasks.size(), Eigen::Vector3d::Zero());
+  std::vector<Eigen::Quaterniond> carried_rotation(tasks.size(), Eigen::Quaterniond::Identity());
+  std::vector<Eigen::Isometry3d> achieved;
+  std::vector<IkTarget> previous_targets(tasks.size());
+  bool previous_solved = false;
   Eigen::VectorXd q = q_ref;
   double last_solved_time = std::nan("");  // the first solve may travel from q_ref freely
   for (int64_t t = 0; t < frames; ++t) {
     const double now = motion.time_s[static_cast<size_t>(t)];
     // A contact continues from the previous frame (planted where it touched down) or begins here.
+    bool lift_off = false;
     for (size_t f = 0; f < feet; ++f) {
       const bool planted = contacts.at(t, static_cast<int>(f));
-      if (!planted && feet_now[f].mode == FootMode::kPlanted) lifted_at[f] = now, lifted_from[f] = feet_now[f].planted;
-      if (planted) lifted_at[f] = std::nan("");
+      lift_off = lift_off || (!planted && feet_now[f].mode == FootMode::kPlanted);
       if (!planted) feet_now[f].mode = FootMode::kFree;
       else if (feet_now[f].mode == FootMode::kFree) feet_now[f].mode = FootMode::kTouchdown;
     }
-    const bool has_targets = FrameTargets(landmarks, tasks, reference_samples, link_reference, alignment, t, targets, motion);
-    for (size_t f = 0; f < feet && has_targets; ++f) {
-      if (!std::isfinite(lifted_at[f]) || foot_task[f] < 0) continue;
-      // Smoothstep from the planted pose (s = 0) to the capture's (s = 1).
-      const double x = options.contact_blend > 0 ? (now - lifted_at[f]) / options.contact_blend : 1.0;
-      if (x >= 1.0) {
-        lifted_at[f] = std::nan("");
-        continue;
-      }
-      const double blend = x * x * (3 - 2 * x);
-      IkTarget& target = targets[static_cast<size_t>(foot_task[f])];
-      if (!target.active) continue;
-      target.position = lifted_from[f].translation() + blend * (target.position - lifted_from[f].translation());
-      if (target.has_orientation) {
-        target.orientation = Eigen::Quaterniond(lifted_from[f].linear()).slerp(blend, target.orientation);
+    if (lift_off && previous_solved && options.contact_blend > 0) {
+      lifted_at = now;
+      ik.taskPoses(q, achieved);
+      for (size_t i = 0; i < tasks.size(); ++i) {
+        const IkTarget& before = previous_targets[i];
+        carried_position[i] = before.active ? Eigen::Vector3d(achieved[i].translation() - before.position) : Eigen::Vector3d::Zero();
+        carried_rotation[i] = before.active && before.has_orientation
+                                  ? Eigen::Quaterniond(achieved[i].linear() * before.orientation.toRotationMatrix().transpose())
+                                  : Eigen::Quaterniond::Identity();
       }
     }
+    const bool has_targets = FrameTargets(landmarks, tasks, reference_samples, link_reference, alignment, t, targets, motion);
+    if (std::isfinite(lifted_at) && has_targets) {
+      const double x = (now - lifted_at) / options.contact_blend;
+      if (x >= 1.0) {
+        lifted_at = std::nan("");
+      } else {
+        const double remaining = 1.0 - x * x * (3 - 2 * x);
+        for (size_t i = 0; i < tasks.size(); ++i) {
+          IkTarget& target = targets[i];
+          if (!target.active) continue;
+          target.position += remaining * carried_position[i];
+          if (target.has_orientation) {
+            target.orientation = (Eigen::Quaterniond::Identity().slerp(remaining, carried_rotation[i]) * target.orientation).normalized();
+          }
+        }
+      }
+    }
+    previous_solved = has_targets;
+    if (has_targets) previous_targets = targets;
     if (!has_targets) {
       bridged.push_back(t);
       ik.forgetHistory();
@@ -763,6 +775,9 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   }
   FrameIk ik(model, tasks.ik, q_posture, posture_weight, FrameIkOptions{}, options.contacts ? RobotFeet(map, model)
                                                                                           : std::vector<IkFoot>{});
+  for (const auto& [joint, value] : map.branch_lower_bound) {
+    ik.restrictLower(static_cast<int>(std::find(coordinate_names.begin(), coordinate_names.end(), joint) - coordinate_names.begin()), value);
+  }
   const FootContacts contacts = SourceContacts(map, landmarks, inputs.capture.time_s, options, report.notes);
   const size_t feet = options.contacts ? map.feet.size() : 0;
 

@@ -67,9 +67,11 @@ struct RetargetOptions {
   // stays at z >= 0 in every frame: exact constraints above every task. false: no contact constraints.
   bool contacts = true;
   ContactDetectionOptions contact;
-  // After a contact ends, the foot's target moves from its planted pose to the capture's over this time
-  // (s, smoothstep), so lift-off is not a jump: 0.1 s is about a third of a walking swing phase.
-  double contact_blend = 0.1;
+  // At a lift-off, every task's error at the last planted frame is carried into its target and decays
+  // to zero over this time (s, smoothstep), so what the planted foot held back does not jump to its
+  // target in one frame. 0.2 s: about half a walking swing phase; a 20 cm carried error then peaks at
+  // 30 m/s², where releasing it in one 120 Hz frame asked thousands.
+  double contact_blend = 0.2;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;

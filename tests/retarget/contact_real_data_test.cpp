@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -264,7 +265,7 @@ const std::vector<std::pair<std::string, std::string>> kVirtualLandmarks = {
     {"left_hand", "left_rubber_hand"}, {"right_hand", "right_rubber_hand"}, {"head", "head_link"},
     {"upper_torso", "torso_link"}, {"left_elbow", "left_elbow_link"}, {"right_elbow", "right_elbow_link"}};
 
-void RoundTrip(const std::string& name, double* p95_deg, double* max_deg, std::string* worst) {
+void RoundTrip(const std::string& name, bool contacts, double* p95_deg, double* max_deg, std::string* worst) {
   const std::string urdf = testing::SourcePath(testing::kG1Urdf);
   const testing::IndependentFk fk(urdf);
   const std::vector<std::string>& joints = fk.revoluteJointsInFileOrder();
@@ -318,7 +319,8 @@ void RoundTrip(const std::string& name, double* p95_deg, double* max_deg, std::s
       }
     }
   }
-  const std::string dir = std::filesystem::temp_directory_path() / ("syn_round_trip_" + std::to_string(::getpid()));
+  const std::string dir = std::filesystem::temp_directory_path() /
+                          ("syn_round_trip_" + name + (contacts ? "_on_" : "_off_") + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const std::string markers = WriteMarkers(data, dir + "/g1.markers.h5");
   { std::ofstream(dir + "/g1-virtual.toml") << marker_set; }
@@ -327,9 +329,12 @@ void RoundTrip(const std::string& name, double* p95_deg, double* max_deg, std::s
   options.robot_map = testing::SourcePath(testing::kG1Map);
   options.markerset = dir + "/g1-virtual.toml";
   options.reference_time = 0.0;
+  options.contacts = contacts;
   RetargetSummary summary;
   const MotionData motion = RetargetFile(markers, options, &summary);
-  std::filesystem::remove_all(dir);
+  // SYN_KEEP_ROUND_TRIP=1 keeps the virtual markers and marker set, to run syn-retarget -v on them.
+  if (std::getenv("SYN_KEEP_ROUND_TRIP")) std::fprintf(stderr, "kept %s\n", dir.c_str());
+  else std::filesystem::remove_all(dir);
   EXPECT_NEAR(summary.scale, 1.0, 1e-6);
   std::vector<double> errors;
   double largest = 0;
@@ -344,7 +349,7 @@ void RoundTrip(const std::string& name, double* p95_deg, double* max_deg, std::s
   }
   *p95_deg = Quantile(errors, 0.95);
   *max_deg = largest;
-  std::fprintf(stderr, "round trip %s: joint error median %.3f p95 %.3f max %.3f deg (%s); %s\n", name.c_str(),
+  std::fprintf(stderr, "round trip %s (contacts %s): joint error median %.3f p95 %.3f max %.3f deg (%s); %s\n", name.c_str(), contacts ? "on" : "off",
                Quantile(errors, 0.5), *p95_deg, *max_deg, worst->c_str(), summary.BriefReport().c_str());
 }
 
@@ -354,7 +359,20 @@ TEST(RetargetRoundTrip, SharedG1MotionsComeBackToTheirJointAngles) {
     SCOPED_TRACE(name);
     double p95 = 0, largest = 0;
     std::string worst;
-    RoundTrip(name, &p95, &largest, &worst);
+    RoundTrip(name, true, &p95, &largest, &worst);
+    EXPECT_LE(p95, 0.5);
+    EXPECT_LE(largest, 2.0) << worst;
+  }
+}
+
+// The same without the contact constraints: the knee branch (posture_target) alone.
+TEST(RetargetRoundTrip, WithoutContactConstraintsKneesStayOnTheirBranch) {
+  SYN_REQUIRE_SHARED("robot_motion/g1_kimodo_walk.csv");
+  for (const char* name : {"walk", "dance", "jumpjack"}) {
+    SCOPED_TRACE(name);
+    double p95 = 0, largest = 0;
+    std::string worst;
+    RoundTrip(name, false, &p95, &largest, &worst);
     EXPECT_LE(p95, 0.5);
     EXPECT_LE(largest, 2.0) << worst;
   }
