@@ -514,7 +514,20 @@ void ProjectOntoContacts(FrameIk& ik, const Model& model, const std::vector<Foot
     std::copy_n(foot_states.begin() + static_cast<long>(static_cast<size_t>(t) * feet), feet, states.begin());
     const double step_time =
         t > 0 ? velocity_limit_scale * (time_s[static_cast<size_t>(t)] - time_s[static_cast<size_t>(t - 1)]) : 0.0;
-    const double violation = ik.project(states, frame_q, t > 0 ? &previous : nullptr, step_time);
+    double violation = ik.project(states, frame_q, t > 0 ? &previous : nullptr, step_time);
+    // The velocity bound from the previous final frame holds even where the constraints could not be met
+    // (the projection then kept the refined frame, whose bound was from the previous frame before its
+    // projection): continuity ranks above a contact the robot cannot keep.
+    if (t > 0 && step_time > 0) {
+      for (int u = model.hasFreeBase() ? 6 : 0; u < model.nu(); ++u) {
+        const int i = u + (model.hasFreeBase() ? 1 : 0);
+        const double reach = step_time * model.uLimit()[u];
+        if (!std::isfinite(reach)) continue;
+        const double clamped = std::clamp(frame_q[i], previous[i] - reach, previous[i] + reach);
+        if (clamped != frame_q[i]) violation = std::max(violation, 2 * kContactTolerance);
+        frame_q[i] = std::clamp(clamped, model.qLower()[i], model.qUpper()[i]);
+      }
+    }
     if (violation > kContactTolerance) ++report.constraint_violations;
     std::copy(frame_q.data(), frame_q.data() + nq, q.begin() + t * nq);
     previous = frame_q;
