@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
                  "Multiply the robot map's posture weight (toward the reference stance); about 10 for joint-centre "
                  "data without segment orientations, whose arms otherwise drift onto their limits")
       ->capture_default_str();
+  app.add_option("--ik-function-tolerance", options.ik_function_tolerance,
+                 "Per-frame IK: stop when an iteration changes the cost by less than this fraction")
+      ->capture_default_str();
   app.add_option("--max-bridge", options.max_bridge,
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")
       ->capture_default_str();

@@ -417,6 +417,7 @@ bool RetargetOptions::IsValid(std::string* error) const {
   if (!(scale >= 0)) return fail("--scale must be auto or a positive number");
   if (max_bridge < 0) return fail("--max-bridge must be >= 0");
   if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
+  if (!(ik_function_tolerance > 0 && ik_function_tolerance < 1)) return fail("--ik-function-tolerance must be in (0, 1)");
   return true;
 }
 
@@ -425,7 +426,7 @@ nlohmann::json RetargetOptions::ToJson() const {
   if (scale > 0) scale_json = scale;
   return {{"floating_base", FloatingBaseChoiceName(floating_base)}, {"reference_time", reference_time},
           {"scale", scale_json}, {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale},
-          {"smoothing", smoothing}, {"posture_scale", posture_scale}};
+          {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -485,7 +486,9 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   const RobotMap& map = inputs.map;
   const double posture_weight =
       map.priority_weights[static_cast<size_t>(map.posture_priority - 1)] * map.posture_weight * options.posture_scale;
-  FrameIk ik(model, tasks.ik, q_ref, posture_weight);
+  FrameIkOptions ik_options;
+  ik_options.function_tolerance = options.ik_function_tolerance;
+  FrameIk ik(model, tasks.ik, q_ref, posture_weight, ik_options);
 
   MotionData motion = EmptyMotion(model, inputs.capture, landmarks, tasks);
   std::vector<int64_t> bridged;

@@ -52,6 +52,10 @@ struct RetargetOptions {
   // humanml3d22) leave each arm's swivel and wrist free; with the map's posture weight they drift over
   // minutes until joints pin on their limits, and 10 holds them (archive walk trial: P1 81 -> 14 mm).
   double posture_scale = 1.0;
+  // The per-frame IK stops when an iteration changes the cost by less than this fraction (Ceres
+  // function_tolerance; frame_ik.h says why 1e-3: tighter values spent 5-10 more, mostly rejected,
+  // iterations per frame on real captures for no change in their landmark errors).
+  double ik_function_tolerance = 1e-3;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "tests/support/run_command.h"
 #include "tests/support/shared_data.h"
 
@@ -78,6 +80,32 @@ TEST(Cli, InspectOfNonHdf5ExitsOne) {
   const CommandResult result = RunCommand(BinPath("syn-inspect") + " " + SourcePath("README.md"));
   EXPECT_EQ(result.exit_code, 1) << result.output;
   EXPECT_NE(result.output.find("not an HDF5 file"), std::string::npos) << result.output;
+}
+
+// syn-plan learns stage parameters from --print-parameters: every flag must reach it, and with it the
+// output's `parameters` attribute (the IK's tolerance did not, before it became an option).
+TEST(Cli, PrintParametersCarriesEveryFlagWithoutInputs) {
+  const CommandResult defaults = RunCommand(BinPath("syn-retarget") + " --print-parameters");
+  ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
+  const nlohmann::json printed = nlohmann::json::parse(defaults.output);
+  EXPECT_EQ(printed["ik_function_tolerance"], 1e-3);
+  EXPECT_EQ(printed["scale"], "auto");
+  EXPECT_EQ(printed["floating_base"], "map");
+  const CommandResult changed = RunCommand(BinPath("syn-retarget") +
+                                           " --print-parameters --ik-function-tolerance 1e-5 --scale 0.5 --floating-base free");
+  ASSERT_EQ(changed.exit_code, 0) << changed.output;
+  const nlohmann::json set = nlohmann::json::parse(changed.output);
+  EXPECT_EQ(set["ik_function_tolerance"], 1e-5);
+  EXPECT_EQ(set["scale"], 0.5);
+  EXPECT_EQ(set["floating_base"], "free");
+  const CommandResult bad = RunCommand(BinPath("syn-retarget") + " --print-parameters --scale tall");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("--scale"), std::string::npos) << bad.output;
+  for (const char* tool : {"syn-ingest", "syn-segment", "syn-synergies", "syn-evaluate", "syn-library"}) {
+    const CommandResult result = RunCommand(BinPath(tool) + " --print-parameters");
+    ASSERT_EQ(result.exit_code, 0) << tool << ": " << result.output;
+    EXPECT_TRUE(nlohmann::json::parse(result.output).is_object()) << tool;
+  }
 }
 
 }  // namespace

@@ -9,7 +9,7 @@
 #include "common/model.h"
 #include "stages/evaluate/evaluate.h"
 #include "stages/evaluate/worker_threads.h"
-#include "stages/retarget/robot_map.h"
+#include "common/robot_map.h"
 #include "stages/segment/segmentation.h"
 #include "stages/synergies/synergies.h"
 #include "tests/support/demo_motion.h"

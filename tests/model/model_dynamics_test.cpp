@@ -234,10 +234,9 @@ TEST(ModelDynamics, MassTimesAtAGivenConfigurationEqualsSimbodysMultiplyByM) {
   // calcMassTimesAt walks the tree itself (syn-evaluate's Monte-Carlo loop); Simbody's multiplyByM after
   // setQ is the reference. HRP-4C covers prismatic joints and a fixed base, G1 and H1 a free base.
   std::mt19937 random(23);
-  for (const char* robot : kRobots) {
-    SYN_REQUIRE_SHARED(robot);
+  for (const std::string& robot : RobotsToCheck()) {
     SCOPED_TRACE(robot);
-    const Model model = Model::Load(testing::SharedPath(robot));
+    const Model model = Model::Load(robot);
     Workspace workspace(model), reference(model);
     workspace.setQ(RandomConfiguration(model, random));
     const Eigen::VectorXd before = workspace.getQ();
@@ -264,10 +263,9 @@ TEST(ModelDynamics, DynamicsAtAGivenStateEqualSimbodysInverseDynamicsAndPoses) {
   // calcDynamicsAt (syn-evaluate's power and feet) against Simbody after setQ and setU: momentum,
   // inverse dynamics with gravity, and every link's pose.
   std::mt19937 random(29);
-  for (const char* robot : kRobots) {
-    SYN_REQUIRE_SHARED(robot);
+  for (const std::string& robot : RobotsToCheck()) {
     SCOPED_TRACE(robot);
-    const Model model = Model::Load(testing::SharedPath(robot));
+    const Model model = Model::Load(robot);
     Workspace workspace(model), reference(model);
     Eigen::VectorXd momentum, tau, expected_momentum, expected_tau;
     for (int trial = 0; trial < 10; ++trial) {
