@@ -99,4 +99,10 @@ inline int RunTool(CLI::App& app, int argc, char** argv, const std::function<voi
   return RunTool(app, argc, argv, nullptr, body);
 }
 
+// A stage's parameters with the --floating-base it loaded the model with (segment, evaluate, simulate).
+inline nlohmann::json WithFloatingBase(nlohmann::json parameters, const std::string& floating_base) {
+  parameters["floating_base"] = floating_base;
+  return parameters;
+}
+
 }  // namespace syn

@@ -48,11 +48,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--penetration", options.sliding.penetration, "A foot deeper than this below z = 0 counts too, m")
       ->capture_default_str();
-  const auto parameters = [&] {
-    nlohmann::json json = options.ToJson();
-    json["floating_base"] = floating_base;
-    return json;
-  };
+  const auto parameters = [&] { return syn::WithFloatingBase(options.ToJson(), floating_base); };
   return syn::RunTool(app, argc, argv, parameters, [&] {
     std::string problem;
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);

@@ -11,18 +11,11 @@
 #include "common/file_bytes.h"
 #include "common/motion_integration.h"
 
+#include "stages/export/number_text.h"
+
 namespace syn {
 namespace {
 
-// Shortest text that reads back to the same double (as nlohmann and the intermediate files print).
-std::string Number(double value) {
-  char text[32];
-  for (int precision = 15; precision <= 17; ++precision) {
-    std::snprintf(text, sizeof text, "%.*g", precision, value);
-    if (std::strtod(text, nullptr) == value) break;
-  }
-  return text;
-}
 
 bool FreeBase(const MotionData& motion) { return motion.nq() == motion.nu() + 1; }
 
@@ -68,8 +61,8 @@ std::string MotionToCsv(const MotionData& motion) {
   for (const std::string& name : motion.coordinate_names) text << ',' << name;
   text << '\n';
   for (int64_t t = 0; t < motion.frames(); ++t) {
-    text << Number(motion.time_s[static_cast<size_t>(t)]);
-    for (int64_t i = 0; i < motion.nq(); ++i) text << ',' << Number(motion.q[static_cast<size_t>(t * motion.nq() + i)]);
+    text << ShortestNumberText(motion.time_s[static_cast<size_t>(t)]);
+    for (int64_t i = 0; i < motion.nq(); ++i) text << ',' << ShortestNumberText(motion.q[static_cast<size_t>(t * motion.nq() + i)]);
     text << '\n';
   }
   return text.str();
@@ -93,14 +86,14 @@ std::string MotionToMot(const MotionData& motion, const Model& model, const std:
   text << '\n';
   for (int64_t t = 0; t < motion.frames(); ++t) {
     const double* q = &motion.q[static_cast<size_t>(t * motion.nq())];
-    text << Number(motion.time_s[static_cast<size_t>(t)]);
+    text << ShortestNumberText(motion.time_s[static_cast<size_t>(t)]);
     if (free_base) {
       const Eigen::Matrix3d rotation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
       const Eigen::Vector3d angles = rotation.eulerAngles(0, 1, 2) * (180.0 / M_PI);  // body-fixed X-Y-Z
-      for (int i = 0; i < 3; ++i) text << '\t' << Number(angles[i]);
-      for (int i = 4; i < 7; ++i) text << '\t' << Number(q[i]);
+      for (int i = 0; i < 3; ++i) text << '\t' << ShortestNumberText(angles[i]);
+      for (int i = 4; i < 7; ++i) text << '\t' << ShortestNumberText(q[i]);
     }
-    for (const auto& [index, factor] : joint_columns) text << '\t' << Number(q[index] * factor);
+    for (const auto& [index, factor] : joint_columns) text << '\t' << ShortestNumberText(q[index] * factor);
     text << '\n';
   }
   return text.str();
@@ -114,10 +107,10 @@ std::string MotionToRobotCsv(const MotionData& motion, const Model& model) {
   std::ostringstream text;
   for (int64_t t = 0; t < motion.frames(); ++t) {
     const double* q = &motion.q[static_cast<size_t>(t * motion.nq())];
-    text << Number(q[4]) << ',' << Number(q[5]) << ',' << Number(q[6]);
-    for (int i = 0; i < 4; ++i) text << ',' << Number(q[i]);
+    text << ShortestNumberText(q[4]) << ',' << ShortestNumberText(q[5]) << ',' << ShortestNumberText(q[6]);
+    for (int i = 0; i < 4; ++i) text << ',' << ShortestNumberText(q[i]);
     for (const ModelJoint& joint : model.joints()) {
-      if (joint.q_index >= 0 && joint.type != "free") text << ',' << Number(q[joint.q_index]);
+      if (joint.q_index >= 0 && joint.type != "free") text << ',' << ShortestNumberText(q[joint.q_index]);
     }
     text << '\n';
   }

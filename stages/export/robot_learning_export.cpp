@@ -10,18 +10,11 @@
 #include "common/error.h"
 #include "stages/export/npz_writer.h"
 
+#include "stages/export/number_text.h"
+
 namespace syn {
 namespace {
 
-// Shortest text that reads back to the same double.
-std::string Number(double value) {
-  char text[32];
-  for (int precision = 15; precision <= 17; ++precision) {
-    std::snprintf(text, sizeof text, "%.*g", precision, value);
-    if (std::strtod(text, nullptr) == value) break;
-  }
-  return text;
-}
 
 void CheckModel(const MotionData& motion, const Model& model) {
   if (motion.coordinate_names != model.coordinateNames()) {
@@ -105,9 +98,10 @@ std::string MotionToUnitreeCsv(const MotionData& motion, const Model& model) {
   std::ostringstream text;
   for (int64_t t = 0; t < motion.frames(); ++t) {
     const double* q = &motion.q[static_cast<size_t>(t * motion.nq())];  // base: qw qx qy qz x y z
-    text << Number(q[4]) << ',' << Number(q[5]) << ',' << Number(q[6]) << ',' << Number(q[1]) << ',' << Number(q[2])
-         << ',' << Number(q[3]) << ',' << Number(q[0]);
-    for (const auto& joint : joints) text << ',' << Number(q[joint.second]);
+    // Root position, then the quaternion scalar last (q holds w, x, y, z at 0..3, the position at 4..6).
+    for (int index : {4, 5, 6, 1, 2, 3}) text << ShortestNumberText(q[index]) << ',';
+    text << ShortestNumberText(q[0]);
+    for (const auto& joint : joints) text << ',' << ShortestNumberText(q[joint.second]);
     text << '\n';
   }
   return text.str();

@@ -59,11 +59,7 @@ int main(int argc, char** argv) {
       ->transform(CLI::CheckedTransformer(std::map<std::string, syn::Integrator>{
           {"euler", syn::Integrator::kSemiImplicitEuler}, {"rk4", syn::Integrator::kRungeKutta4}}))
       ->default_str("euler");
-  const auto parameters = [&] {
-    nlohmann::json json = options.ToJson();
-    json["floating_base"] = floating_base;
-    return json;
-  };
+  const auto parameters = [&] { return syn::WithFloatingBase(options.ToJson(), floating_base); };
   return syn::RunTool(app, argc, argv, parameters, [&] {
     std::string problem;
     if (!options.IsValid(&problem)) throw syn::UsageError(problem);
