@@ -36,8 +36,10 @@ class MakefileTargets : public ::testing::Test {
     fs::permissions(path, fs::perms::owner_all | fs::perms::group_read | fs::perms::others_read);
   }
   CommandResult make(const std::string& arguments) {
-    return RunCommand("PATH=" + dir_ + "/fakebin:$PATH make --no-print-directory -C " + std::string(SYN_SOURCE_DIR) +
-                      " " + arguments);
+    // Without the calling make's MAKEFLAGS: run under `make sanitize-test`, they carry its CMAKE_FLAGS=... into
+    // this make as a command-line override.
+    return RunCommand("env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL PATH=" + dir_ + "/fakebin:$PATH make --no-print-directory -C " +
+                      std::string(SYN_SOURCE_DIR) + " " + arguments);
   }
   std::string cmakeLog() {
     std::ifstream in(dir_ + "/cmake.log");
