@@ -62,6 +62,7 @@ void BridgeGaps(const Model& model, const std::vector<double>& time_s, const std
                 double max_bridge, const std::string& source, std::vector<double>& q) {
   const int64_t nq = model.nq();
   const int64_t frames = static_cast<int64_t>(time_s.size());
+  const ConfigurationShape shape = ConfigurationShape::Of(model.hasFreeBase(), static_cast<int>(nq));
   size_t k = 0;
   while (k < bridged.size()) {
     size_t end = k;
@@ -79,8 +80,8 @@ void BridgeGaps(const Model& model, const std::vector<double>& time_s, const std
     }
     for (int64_t t = first; t <= last; ++t) {
       const double fraction = (time_s[static_cast<size_t>(t)] - time_s[static_cast<size_t>(before)]) / span;
-      Interpolate(ConfigurationShape::Of(model.hasFreeBase(), static_cast<int>(nq)), &q[static_cast<size_t>(before * nq)],
-                  &q[static_cast<size_t>(after * nq)], fraction, &q[static_cast<size_t>(t * nq)]);
+      Interpolate(shape, &q[static_cast<size_t>(before * nq)], &q[static_cast<size_t>(after * nq)], fraction,
+                  &q[static_cast<size_t>(t * nq)]);
     }
     k = end + 1;
   }

@@ -111,9 +111,10 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
     if (end == frames) break;
   }
   Eigen::VectorXd refined(nq);
+  const ConfigurationShape shape = ConfigurationShape::Of(model.hasFreeBase(), model.nq());
   for (int64_t t = 0; t < frames; ++t) {
     frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
-    Integrate(ConfigurationShape::Of(model.hasFreeBase(), model.nq()), frame_q, correction[static_cast<size_t>(t)], refined);
+    Integrate(shape, frame_q, correction[static_cast<size_t>(t)], refined);
     for (int u = first_joint; u < nu; ++u) {
       double lower = model.qLower()[u + q_offset], upper = model.qUpper()[u + q_offset];
       // The velocity limit from the previous (already final) frame: the smoothing does not bound
