@@ -29,28 +29,37 @@ outputs_and_jobs() {
                            sub(/,/, "-", job); print target, "syn-" job}' "$rules"
 }
 
-from=$(wc -l < "$log")
-make --no-print-directory -C "$tree" run MANIFEST="$manifest" JOBS="$jobs" CLUSTER=slurm > "$run_log" 2>&1 &
-make_pid=$!
-
-# The victim: the retarget step of the trial with the largest capture (the longest retarget, so it is still
-# working when cancelled), once it has run for a second.
-for _ in $(seq 600); do [ -f "$rules" ] && break; sleep 0.1; done
-[ -f "$rules" ] || { cat "$run_log"; fail "syn-plan wrote no $rules"; }
+# The plan first (make run writes the same rules again, unchanged), to choose the victim before anything runs:
+# the retarget step of the trial with the largest capture. A fast machine retargets a demo trial in under a
+# second, so the victim is held by the writers' test hook (SYN_TEST_PAUSE_BEFORE_RENAME, common/file_bytes.h):
+# it pauses with its complete temporary file on disk, the worst moment for a kill. srun passes the environment
+# to the step; only the victim's output path matches, every other job runs as usual.
+(cd "$tree" && "${BUILD_DIR:-build}"/bin/syn-plan "$manifest" -o "outputs/$name/rules.mk" --outputs outputs > /dev/null) ||
+  fail "syn-plan $manifest failed"
+[ -f "$rules" ] || fail "syn-plan wrote no $rules"
 trial=$(awk '$1 ~ /\/markers\.h5:$/ {print $2, $1}' "$rules" | while read -r capture target; do
   case $capture in /*) ;; *) capture=$tree/$capture ;; esac
   echo "$(stat -c %s "$capture") $target"
 done | sort -n | tail -n 1 | sed 's|.*/trials/\([^/]*\)/markers\.h5:$|\1|')
 victim_job=syn-retarget-$trial
+
+from=$(wc -l < "$log")
+SYN_TEST_PAUSE_BEFORE_RENAME="trials/$trial/motion.h5" \
+  make --no-print-directory -C "$tree" run MANIFEST="$manifest" JOBS="$jobs" CLUSTER=slurm > "$run_log" 2>&1 &
+make_pid=$!
+
+# Cancelled once its temporary file is complete and it waits in the hook.
+victim_log=$out/$name/trials/$trial/motion.h5.log
 victim_id=
 for _ in $(seq 3000); do
-  victim_id=$(squeue -h -t R -o '%i %j %Z %M' |
-    awk -v job="$victim_job" -v dir="$tree" '$2 == job && $3 == dir && $4 != "0:00" {print $1; exit}')
-  [ -n "$victim_id" ] && break
-  kill -0 $make_pid 2>/dev/null || { cat "$run_log"; fail "make finished before $victim_job ran for a second"; }
+  if grep -qs 'test hook: paused before renaming' "$victim_log"; then
+    victim_id=$(squeue -h -t R -o '%i %j %Z' | awk -v job="$victim_job" -v dir="$tree" '$2 == job && $3 == dir {print $1; exit}')
+    [ -n "$victim_id" ] && break
+  fi
+  kill -0 $make_pid 2>/dev/null || { cat "$run_log"; fail "make finished before $victim_job reached its rename"; }
   sleep 0.1
 done
-[ -n "$victim_id" ] || fail "$victim_job not running after 300 s"
+[ -n "$victim_id" ] || { cat "$run_log"; fail "$victim_job not paused before its rename after 300 s"; }
 scancel "$victim_id"
 echo "scancel $victim_id ($victim_job) after $(squeue -h -j "$victim_id" -o %M 2>/dev/null || echo '?') running"
 
