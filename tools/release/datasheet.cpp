@@ -55,7 +55,7 @@ std::string HeaderRow(const std::string& path, bool after_endheader) {
 std::string ParameterGroups(const std::map<std::string, std::vector<std::string>>& trials_by_parameters, size_t trial_count) {
   std::string text;
   for (const auto& [parameters, trials] : trials_by_parameters) {
-    text += "  - `" + parameters + "`" + (trials.size() == trial_count ? " (every trial)" : ": " + JoinedNames(trials)) + "\n";
+    text += "    - `" + parameters + "`" + (trials.size() == trial_count ? " (every trial)" : ": " + JoinedNames(trials)) + "\n";
   }
   return text;
 }
@@ -199,15 +199,15 @@ Datasheet MakeDatasheet(const ReleaseManifest& manifest, const std::vector<Relea
     md << "\n";
   }
   md << "- Parameters each stage recorded in its outputs (canonical JSON; `syn-STAGE --help` documents each):\n";
-  for (const auto& [stage, groups] : parameters) md << "  - " << stage << ":\n" << ParameterGroups(groups, stage == "syn-library" ? 1 : rows.size());
+  for (const auto& [stage, groups] : parameters) md << "  - " << stage << ":\n" << ParameterGroups(groups, stage == "syn-library" ? 0 : rows.size());
   md << "\n";
 
-  // Capture sources, numbered for the trial table: S1, S2, ...
-  std::map<std::pair<std::string, std::string>, std::vector<std::string>> by_source;
-  for (const ReleaseTrial& trial : manifest.trials) by_source[{trial.licence, trial.source}].push_back(trial.id);
-  std::map<std::pair<std::string, std::string>, std::string> source_key;
-  int source_number = 0;
-  for (const auto& [key, trials] : by_source) source_key[key] = std::string("S").append(std::to_string(++source_number));
+  // Capture licences, numbered for the trial table (L1, L2, ...), each with its sources and their trials.
+  std::map<std::string, std::map<std::string, std::vector<std::string>>> by_licence;  // licence -> source -> trials
+  for (const ReleaseTrial& trial : manifest.trials) by_licence[trial.licence][trial.source].push_back(trial.id);
+  std::map<std::string, std::string> licence_key;
+  int licence_number = 0;
+  for (const auto& [licence, sources] : by_licence) licence_key[licence] = std::string("L").append(std::to_string(++licence_number));
 
   md << "## Trials\n\n"
      << "Quality columns (all in `quality.csv`): P1/P2 = landmark tracking error of the robot map's priority-1 tasks "
@@ -216,7 +216,7 @@ Datasheet MakeDatasheet(const ReleaseManifest& manifest, const std::vector<Relea
         "penetration = deepest sole point below the floor and the fraction of frames with one more than 1 cm below; "
         "sliding = syn-evaluate's foot-sliding ratio. \"n/a\": the motion file carries no such figure.\n\n"
      << "| trial | subject | class | style | frames | duration s | P1 position mm | P1 angle deg | P2 angle deg | "
-        "stance drift mm | deepest penetration mm | penetration frames | sliding | source |\n"
+        "stance drift mm | deepest penetration mm | penetration frames | sliding | licence |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const TrialRow& row : rows) {
     const TrialQuality& q = row.quality;
@@ -227,7 +227,7 @@ Datasheet MakeDatasheet(const ReleaseManifest& manifest, const std::vector<Relea
        << FigureText(q.p2_angle_p95_deg, 2) << " | " << FigureText(q.stance_drift_median_mm, 1) << " / "
        << FigureText(q.stance_drift_p95_mm, 1) << " | " << FigureText(q.deepest_penetration_mm, 1) << " | "
        << FigureText(q.penetration_frames_ratio, 4) << " | " << FigureText(q.foot_sliding_ratio, 3) << " | "
-       << source_key[{row.trial->licence, row.trial->source}] << " |\n";
+       << licence_key[row.trial->licence] << " |\n";
   }
   md << "\n";
 
@@ -260,11 +260,13 @@ Datasheet MakeDatasheet(const ReleaseManifest& manifest, const std::vector<Relea
   }
   md << "\n";
 
-  md << "## Sources and licences\n\nThe captures are not in this release; each trial names its source and licence "
-        "(from `manifest.toml`):\n\n";
-  for (const auto& [key, trials] : by_source) {
-    md << "- " << source_key[key] << ". Source: " << OrUnknown(key.second) << ". Licence: " << OrUnknown(key.first) << ". Trials (" << trials.size()
-       << "): " << JoinedNames(trials) << ".\n";
+  md << "## Sources and licences\n\nThe captures are not in this release. Their licences and sources, as `manifest.toml` "
+        "gives them (\"unknown\": the manifest names none):\n\n";
+  for (const auto& [licence, sources] : by_licence) {
+    md << "- **" << licence_key[licence] << "** " << OrUnknown(licence) << "\n";
+    for (const auto& [source, trials] : sources) {
+      md << "  - " << OrUnknown(source) << ": " << JoinedNames(trials) << "\n";
+    }
   }
   md << "\n## How to cite\n\n"
      << (manifest.citation.empty()
