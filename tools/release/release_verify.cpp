@@ -172,7 +172,12 @@ void CompareFiles(const Names& names, const std::vector<ReleaseFile>& release, c
                   const std::string& what) {
   std::map<std::string, const ReleaseFile*> ours;
   for (const ReleaseFile& file : release) ours[file.path] = &file;
-  for (const ReleaseFile& file : expected) {
+  // SHA256SUMS last: a changed file changes it too, and the file is the news.
+  std::vector<const ReleaseFile*> in_order;
+  for (const ReleaseFile& file : expected) in_order.push_back(&file);
+  std::stable_partition(in_order.begin(), in_order.end(), [](const ReleaseFile* file) { return file->path != "SHA256SUMS"; });
+  for (const ReleaseFile* expected_file : in_order) {
+    const ReleaseFile& file = *expected_file;
     const auto found = ours.find(file.path);
     if (found == ours.end()) throw DataError(names.at(file.path), "missing from the release, but " + what + " has it");
     const std::string have = found->second->contents(), want = file.contents();
