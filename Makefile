@@ -4,7 +4,8 @@
 #   make run MANIFEST=manifests/X.toml [DATASET_ROOT=...] -jN   the pipeline on any archive
 #   make run|release ... CLUSTER=slurm   every job of the plan as an srun step (README: SLURM)
 #   make cluster-up | cluster-down   a single-node SLURM cluster on this machine (root; for trying and CI)
-#   make release MANIFEST=manifests/X.toml   a deterministic tar of the archive's results
+#   make release MANIFEST=manifests/X.toml   the archive's dataset release: a deterministic tar with robot motions,
+#                         exports, quality table and datasheet (syn-release; check one with syn-release verify)
 #   make compose SCRIPT=manifests/scripts/X.toml [LIBRARY=outputs/demo/library.h5]   a scripted motion,
 #                         evaluated and exported (outputs/compose/X.*)
 #   make studio [LIBRARY=outputs/demo/library.h5 SCRIPT=... PORT=8080]   the SynSculptor studio: compose from
