@@ -4,7 +4,8 @@
 #   make run MANIFEST=manifests/X.toml [DATASET_ROOT=...] -jN   the pipeline on any archive
 #   make run|release ... CLUSTER=slurm   every job of the plan as an srun step (README: SLURM)
 #   make cluster-up | cluster-down   a single-node SLURM cluster on this machine (root; for trying and CI)
-#   make release MANIFEST=manifests/X.toml   a deterministic tar of the archive's results
+#   make release MANIFEST=manifests/X.toml   the archive's dataset release: a deterministic tar with robot motions,
+#                         exports, quality table and datasheet (syn-release; check one with syn-release verify)
 #   make compose SCRIPT=manifests/scripts/X.toml [LIBRARY=outputs/demo/library.h5]   a scripted motion,
 #                         evaluated and exported (outputs/compose/X.*)
 #   make studio [LIBRARY=outputs/demo/library.h5 SCRIPT=... PORT=8080]   the SynSculptor studio: compose from
@@ -166,26 +167,15 @@ run: build check-cluster
 	@echo "make: $(MANIFEST_NAME): all jobs up to date in $(OUTPUTS)/$(MANIFEST_NAME)/"
 
 # ---- reproducible release ------------------------------------------------------------
-# $(OUTPUTS)/NAME/release/NAME-VERSION.tar: the style libraries, per-trial synergies and metrics, summaries, the
-# manifest, provenance (tool and dependency versions, every parameter stamp) and SHA256SUMS. The tar is
-# deterministic (sorted names, mtime 0, owner 0), so the same inputs give the same SHA-256.
-TOOL_VERSION := $(shell sed -n 's/^project.synsculpt VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
-RELEASE_DEPENDENCIES := libsimbody-dev libceres-dev libeigen3-dev libhdf5-dev libsuitesparse-dev g++
-
+# $(OUTPUTS)/NAME/release/NAME-VERSION.tar, written by syn-release (tools/release): per trial the robot motion,
+# the manifest's [release] exports, synergies, metrics and contact flags; quality.csv; the datasheet README.md
+# (robot and URDF licence, parameters, trial table, totals, export columns, capture licences); libraries,
+# summaries, parameter stamps, the manifest, provenance and SHA256SUMS. The tar is deterministic (sorted
+# names, mtime 0, owner 0), so the same inputs give the same SHA-256. Check one with
+# `syn-release verify TAR [--rebuild]`.
 release: run
-	@out=$(OUTPUTS)/$(MANIFEST_NAME); name=$(MANIFEST_NAME)-$(or $(MANIFEST_VERSION),0.0.0); \
-	stage=$$out/release/$$name; rm -rf $$out/release; mkdir -p $$stage/trials $$stage/params; \
-	cp -r $$out/library $$out/library.h5 $$out/summary $$stage/; rm -f $$stage/library/*.log $$stage/summary/*.log; \
-	for trial in $$out/trials/*/; do id=$$(basename $$trial); mkdir -p $$stage/trials/$$id; \
-	  cp $$trial/synergies.h5 $$trial/metrics.json $$stage/trials/$$id/; done; \
-	cp $$out/params/*.json $$stage/params/; cp $(MANIFEST) $$stage/manifest.toml; \
-	{ echo '{'; echo '  "tool": "synsculpt $(TOOL_VERSION)",'; \
-	  echo '  "manifest": "$(MANIFEST)",'; echo '  "dependencies": {'; \
-	  dpkg-query -W -f='    "$${Package}": "$${Version}",\n' $(RELEASE_DEPENDENCIES) 2>/dev/null | sort | sed '$$ s/,$$//'; \
-	  echo '  }'; echo '}'; } > $$stage/provenance.json; \
-	(cd $$stage && find . -type f ! -name SHA256SUMS | LC_ALL=C sort | xargs sha256sum > SHA256SUMS); \
-	tar --sort=name --mtime=@0 --owner=0 --group=0 --numeric-owner --mode=u=rwX,go=rX --format=gnu -C $$out/release -cf $$out/release/$$name.tar $$name; \
-	echo "make: release $$out/release/$$name.tar sha256 $$(sha256sum $$out/release/$$name.tar | cut -d' ' -f1)"
+	@rm -rf $(OUTPUTS)/$(MANIFEST_NAME)/release
+	@$(BIN)/syn-release build $(MANIFEST) --outputs $(OUTPUTS) $(if $(DATASET_ROOT),--dataset-root $(DATASET_ROOT)) | sed 's/^/make: /'
 
 demo:
 	@$(MAKE) --no-print-directory run MANIFEST=manifests/demo.toml

@@ -28,6 +28,8 @@ int main(int argc, char** argv) {
   return syn::RunTool(app, argc, argv, [&] {
     if (dataset_root.empty() && std::getenv("DATASET_ROOT")) dataset_root = std::getenv("DATASET_ROOT");
     const syn::Manifest manifest = syn::LoadManifest(manifest_path, dataset_root, syn::QueryStageParameters(stage_bin));
+    // A capture without a licence can still be run; the release datasheet then says "unknown".
+    for (const std::string& warning : manifest.release.licenceWarnings()) std::cerr << "syn-plan: warning: " << warning << "\n";
     const syn::Plan plan = syn::MakePlan(manifest, outputs_root);
     const int rewritten = syn::WritePlan(plan, manifest, common.output);
     std::cerr << "syn-plan: " << manifest.name << ": " << manifest.trials.size() << " trials, " << plan.jobs.size()

@@ -96,6 +96,8 @@ class ManifestParser {
         manifest.robot_map = fields_.text(value, name);
       } else if (name == "markerset") {
         manifest.markerset = fields_.text(value, name);
+      } else if (IsReleaseManifestKey(name)) {
+        // licence, source, [release]: read by ReadReleaseManifest (LoadManifest).
       } else if (name == "trial") {
         trials = value.as_array();
         trials_line = LineOf(value);
@@ -104,8 +106,8 @@ class ManifestParser {
         addParameters(value, *stage_names, defaults[name]);
       } else {
         fields_.fail(value, "unknown key '" + name +
-                                "' (expected name, version, description, root, model, robot_map, markerset, a stage "
-                                "table, or [[trial]])");
+                                "' (expected name, version, description, root, model, robot_map, markerset, licence, "
+                                "source, [release], a stage table, or [[trial]])");
       }
     }
     if (manifest.name.empty()) fields_.fail(1, "the manifest needs a 'name'");
@@ -135,6 +137,8 @@ class ManifestParser {
           trial.motion_class = fields_.text(value, name);
         } else if (name == "genre") {
           trial.genre = fields_.text(value, name);
+        } else if (name == "licence" || name == "source") {
+          static_cast<void>(fields_.text(value, name));  // checked here, read by ReadReleaseManifest
         } else if (name == kMappingKey) {
           trial.parameters["retarget"][kMappingKey] = mapping(value);
         } else if (const StageParameterNames* stage_names = stage(name)) {
@@ -143,8 +147,8 @@ class ManifestParser {
           trial.parameters[owner->stage][name] = scalar(value, name);
         } else {
           fields_.fail(value, "unknown trial key '" + name +
-                                  "' (expected id, subject, file, style, motion_class, genre, a stage table, or a "
-                                  "parameter name of one stage)");
+                                  "' (expected id, subject, file, style, motion_class, genre, licence, source, a stage "
+                                  "table, or a parameter name of one stage)");
         }
       }
       // The mapping chooses the plan's route; it is no parameter of syn-retarget.
@@ -179,6 +183,7 @@ class ManifestParser {
 Manifest LoadManifest(const std::string& path, const std::string& dataset_root,
                       const std::vector<StageParameterNames>& stages) {
   Manifest manifest = ManifestParser(path, stages).parse();
+  manifest.release = ReadReleaseManifest(path);
   if (!dataset_root.empty()) manifest.root = dataset_root;
   for (ManifestTrial& trial : manifest.trials) {
     trial.path = manifest.root.empty() ? trial.file : manifest.root + "/" + trial.file;

@@ -17,6 +17,9 @@
 //   motion_class = "walk"
 //   ingest = { drop_first_frame = false }   # per-trial overrides, per stage
 //   up_axis = "y"                      # shorthand for a parameter only one stage has
+//   licence = "..."  source = "..."   # of the captures, per manifest or per trial (common/release_manifest.h)
+//   [release] exports = ["robot-csv", "mot"]   # syn-export files per trial (common/release_manifest.h);
+//                                      # with licence, citation and the robot's licence for the datasheet
 //   [retarget] mapping = "osc"         # kinematic (default): the retargeted motion goes on to segment;
 //                                      # osc: syn-simulate's dynamic mapping runs in between ([simulate]
 //                                      # holds its parameters, e.g. contact = "none"); per trial too
@@ -27,6 +30,8 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "common/release_manifest.h"
 
 namespace syn {
 
@@ -61,6 +66,7 @@ struct Manifest {
   std::string robot_map;
   std::string markerset;
   std::vector<ManifestTrial> trials;
+  ReleaseManifest release;  // licences, sources, the per-trial exports (what `make release` ships)
 };
 
 // Parses and validates a manifest: unknown keys, unknown parameters, missing

@@ -152,6 +152,18 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
                                 motion + " --synergies " + synergies,
                                 " --model " + model + " --robot-map " + MakeEscaped(ShellWord(manifest.robot_map)),
                                 parameters_of("evaluate"), trial.id + ".evaluate"));
+    // The motion in the formats the release ships ([release] exports), loaded as the retargeting did.
+    for (const std::string& format : manifest.release.exports) {
+      nlohmann::json export_parameters = {{"format", format}};
+      const nlohmann::json retarget_parameters = parameters_of("retarget");
+      // syn-export has no "map" (the robot map's choice, syn-retarget's default): its "auto" then decides.
+      if (retarget_parameters.contains("floating_base") && retarget_parameters["floating_base"] != "map") {
+        export_parameters["floating_base"] = retarget_parameters["floating_base"];
+      }
+      plan.jobs.push_back(MakeJob(out, "export", trial.id, dir + "/" + FindReleaseExportFormat(format)->file_name,
+                                  {motion, manifest.model}, motion, " --model " + model, export_parameters,
+                                  trial.id + ".export." + format));
+    }
     synergies_by_style[trial.style].push_back(synergies);
     all_synergies.push_back(synergies);
     all_metrics.push_back(dir + "/metrics.json");
