@@ -160,7 +160,7 @@ Plan MakePlan(const Manifest& manifest, const std::string& outputs_root) {
       if (retarget_parameters.contains("floating_base") && retarget_parameters["floating_base"] != "map") {
         export_parameters["floating_base"] = retarget_parameters["floating_base"];
       }
-      plan.jobs.push_back(MakeJob(out, "export", trial.id, dir + "/" + FindReleaseExportFormat(format)->file_name,
+      plan.jobs.push_back(MakeJob(out, "export", trial.id + "." + format, dir + "/" + FindReleaseExportFormat(format)->file_name,
                                   {motion, manifest.model}, motion, " --model " + model, export_parameters,
                                   trial.id + ".export." + format));
     }
