@@ -39,14 +39,22 @@ void Difference(const ConfigurationShape& shape, const double* q0, const double*
   for (int i = 0; q_joint + i < shape.nq; ++i) v[v_joint + i] = q1[q_joint + i] - q0[q_joint + i];
 }
 
-void Interpolate(const ConfigurationShape& shape, const double* q0, const double* q1, double s, double* q) {
+void InterpolateUnnormalized(const ConfigurationShape& shape, const double* q0, const double* q1, double s,
+                             double* q) {
   for (int i = 0; i < shape.nq; ++i) q[i] = (1 - s) * q0[i] + s * q1[i];
   if (!shape.free_base) return;
-  // The base orientation by normalised lerp toward the nearer of q1 and −q1 (the same rotation): between
-  // neighbouring frames it is slerp to second order in the angle, and costs no trigonometry.
+  // The base orientation toward the nearer of q1 and −q1 (the same rotation), so the chord does not pass
+  // near zero.
   if (q0[0] * q1[0] + q0[1] * q1[1] + q0[2] * q1[2] + q0[3] * q1[3] < 0) {
     for (int i = 0; i < 4; ++i) q[i] = (1 - s) * q0[i] - s * q1[i];
   }
+}
+
+void Interpolate(const ConfigurationShape& shape, const double* q0, const double* q1, double s, double* q) {
+  // Normalised lerp: between neighbouring frames it is slerp to second order in the angle, and costs no
+  // trigonometry.
+  InterpolateUnnormalized(shape, q0, q1, s, q);
+  if (!shape.free_base) return;
   const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (norm > 0) {
     for (int i = 0; i < 4; ++i) q[i] /= norm;

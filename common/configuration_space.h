@@ -30,6 +30,11 @@ struct ConfigurationShape {
 void Integrate(const ConfigurationShape& shape, const double* q0, const double* v, double* q1);
 void Difference(const ConfigurationShape& shape, const double* q0, const double* q1, double* v);
 void Interpolate(const ConfigurationShape& shape, const double* q0, const double* q1, double s, double* q);
+// Interpolate without the final normalisation: the base quaternion is left on the chord, off the unit sphere.
+// For a caller whose consumer normalises anyway (Workspace::setQ does): normalising twice rounds differently
+// from normalising once, and the segmentation's ΔP is then no longer the same to the last bit.
+void InterpolateUnnormalized(const ConfigurationShape& shape, const double* q0, const double* q1, double s,
+                             double* q);
 
 // Checked forms: throw std::invalid_argument naming the argument, the expected and the actual size.
 void Integrate(const ConfigurationShape& shape, const Eigen::VectorXd& q0, const Eigen::VectorXd& v, Eigen::VectorXd& q1);

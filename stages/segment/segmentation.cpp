@@ -61,7 +61,9 @@ Segmentation SegmentMotion(const MotionData& motion, const Model& model, const S
     const double* q1 = &motion.q[next * static_cast<size_t>(nq)];
     const double* u0 = &motion.u[segment * static_cast<size_t>(nu)];
     const double* u1 = &motion.u[next * static_cast<size_t>(nu)];
-    Interpolate(shape, q0, q1, fraction, q.data());
+    // Unnormalised: setQ normalises the quaternion, and normalising once keeps ΔP the same to the last bit
+    // as before configuration-space maths moved to common/ (the demo release's SHA-256 with it).
+    InterpolateUnnormalized(shape, q0, q1, fraction, q.data());
     for (int64_t k = 0; k < nu; ++k) u[k] = (1 - fraction) * u0[k] + fraction * u1[k];
     workspace.setQ(q);  // normalises the quaternion
     if (options.momentum == MomentumKind::kCentroidal) {
