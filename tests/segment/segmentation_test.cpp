@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "common/error.h"
 #include "tests/support/shared_data.h"
 
@@ -65,6 +67,67 @@ TEST(Segmentation, QuantileThresholdAndAnalysisRate) {
   EXPECT_EQ(segmentation.analysis_time.size(), 200u);  // 3.99 s at 50 Hz
   EXPECT_EQ(segmentation.threshold_used, 0.0);
   EXPECT_EQ(segmentation.boundaries, (std::vector<int64_t>{0, 100, 200, 400}));
+}
+
+// ΔP between analysis instants, computed here step by step: the configuration blended component-wise between
+// the neighbouring frames (the base quaternion toward the nearer sign, left off the unit sphere) and
+// normalised once, by Workspace::setQ. The segmentation must give these numbers to the last bit: the demo
+// release's SHA-256 depends on them, and normalising a second time (Interpolate, then setQ) moves ΔP by
+// about 1e-14.
+TEST(Segmentation, DeltaPIsTheOnceNormalisedBlendBitForBit) {
+  const Model model = Model::Load(testing::SourcePath("datasets/robots/unitree_g1/g1_29dof.urdf"));
+  const int64_t nq = model.nq(), nu = model.nu();
+  MotionData motion;
+  motion.coordinate_names = model.coordinateNames();
+  motion.velocity_names = model.velocityNames();
+  motion.model_sha256 = model.sourceSha256();
+  const int frames = 60;  // 2 s at 30 Hz, analysed at 100 Hz: most instants fall between frames
+  for (int t = 0; t < frames; ++t) {
+    const double time = t / 30.0;
+    motion.time_s.push_back(time);
+    Eigen::VectorXd q = model.defaultQ();
+    // The base turning about a tilted axis, 0.15 rad per frame; from frame 30 on stored with the opposite
+    // sign (the same rotation), so the nearer-sign branch is taken once.
+    const Eigen::Quaterniond base(Eigen::AngleAxisd(4.5 * time, Eigen::Vector3d(0.3, -0.5, 0.8).normalized()));
+    const double sign = t < 30 ? 1.0 : -1.0;
+    q.head<4>() << sign * base.w(), sign * base.x(), sign * base.y(), sign * base.z();
+    for (int64_t i = 7; i < nq; ++i) q[i] = 0.4 * std::sin(2.0 * time + 0.3 * static_cast<double>(i));
+    motion.q.insert(motion.q.end(), q.data(), q.data() + nq);
+    for (int64_t i = 0; i < nu; ++i) motion.u.push_back(std::cos(1.5 * time + 0.2 * static_cast<double>(i)));
+  }
+  motion.udot.assign(motion.u.size(), 0.0);
+  motion.tau.assign(motion.u.size(), 0.0);
+
+  SegmentOptions options;  // generalized momentum, 100 Hz
+  const Segmentation segmentation = SegmentMotion(motion, model, options);
+  ASSERT_EQ(segmentation.delta_p.size(), 197u);  // 0 to 59/30 s at 100 Hz
+
+  Workspace workspace(model);
+  Eigen::VectorXd q(nq), u(nu), p(nu), p_before(nu);
+  size_t frame = 0;
+  for (size_t i = 0; i < segmentation.delta_p.size(); ++i) {
+    const double time = static_cast<double>(i) / options.analysis_rate;
+    while (frame + 2 < static_cast<size_t>(frames) && motion.time_s[frame + 1] <= time) ++frame;
+    const double s = (time - motion.time_s[frame]) / (motion.time_s[frame + 1] - motion.time_s[frame]);
+    const double* q0 = &motion.q[frame * static_cast<size_t>(nq)];
+    const double* q1 = &motion.q[(frame + 1) * static_cast<size_t>(nq)];
+    const double dot = q0[0] * q1[0] + q0[1] * q1[1] + q0[2] * q1[2] + q0[3] * q1[3];
+    for (int64_t k = 0; k < nq; ++k) {
+      const double toward = k < 4 && dot < 0 ? -q1[k] : q1[k];
+      q[k] = (1 - s) * q0[k] + s * toward;
+    }
+    for (int64_t k = 0; k < nu; ++k) {
+      const double u0 = motion.u[frame * static_cast<size_t>(nu) + static_cast<size_t>(k)];
+      const double u1 = motion.u[(frame + 1) * static_cast<size_t>(nu) + static_cast<size_t>(k)];
+      u[k] = (1 - s) * u0 + s * u1;
+    }
+    workspace.setQ(q);
+    workspace.calcMassTimes(u, p);
+    if (i > 0) {
+      EXPECT_EQ(segmentation.delta_p[i], (p - p_before).norm()) << "analysis instant " << i;
+    }
+    p_before.swap(p);
+  }
 }
 
 TEST(Segmentation, RefusesAnotherRobotsMotion) {
