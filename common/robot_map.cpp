@@ -116,6 +116,14 @@ class RobotMapParser {
         const auto* table = value.as_table();
         if (!table) fields_.fail(value, "[reference_stance] must map joint names to positions");
         for (const auto& [joint, position] : *table) map.reference_stance[std::string(joint.str())] = fields_.number(position, "q");
+      } else if (name == "branch_lower_bound") {
+        const auto* table = value.as_table();
+        if (!table) fields_.fail(value, "[branch_lower_bound] must map joint names to positions");
+        for (const auto& [joint, position] : *table) map.branch_lower_bound[std::string(joint.str())] = fields_.number(position, "q");
+      } else if (name == "posture_target") {
+        const auto* table = value.as_table();
+        if (!table) fields_.fail(value, "[posture_target] must map joint names to positions");
+        for (const auto& [joint, position] : *table) map.posture_target[std::string(joint.str())] = fields_.number(position, "q");
       } else if (name == "feet") {
         const auto* table = value.as_table();
         if (!table) fields_.fail(value, "[feet] must hold [feet.left] and [feet.right]");
@@ -126,7 +134,7 @@ class RobotMapParser {
       } else {
         fields_.fail(value, "unknown key '" + name +
                                 "' (expected robot, floating_base, priority_weights, [[task]], [posture], "
-                                "[reference_stance], [feet])");
+                                "[reference_stance], [posture_target], [branch_lower_bound], [feet])");
       }
     }
     if (map.tasks.empty()) fields_.fail(1, "the robot map has no [[task]]");
@@ -170,6 +178,18 @@ void CheckRobotMapNames(const RobotMap& map, const std::function<bool(const std:
   for (const auto& [joint, position] : map.reference_stance) {
     if (!has_joint(joint)) {
       throw DataError(Location::InFile(map.file), "reference_stance names joint '" + joint + "', which " +
+                                                      model_name + " does not have");
+    }
+  }
+  for (const auto& [joint, position] : map.branch_lower_bound) {
+    if (!has_joint(joint)) {
+      throw DataError(Location::InFile(map.file), "branch_lower_bound names joint '" + joint + "', which " +
+                                                      model_name + " does not have");
+    }
+  }
+  for (const auto& [joint, position] : map.posture_target) {
+    if (!has_joint(joint)) {
+      throw DataError(Location::InFile(map.file), "posture_target names joint '" + joint + "', which " +
                                                       model_name + " does not have");
     }
   }

@@ -48,6 +48,17 @@ struct RobotMap {
   int posture_priority = 3;
   double posture_weight = 1.0;
   std::map<std::string, double> reference_stance;  // joint name -> q (rad or m); others 0
+  // The posture task's target and the IK's first warm start, where it differs from the reference stance
+  // (joint name -> q). A slightly flexed knee here keeps a near-straight leg on its natural branch: from
+  // a straight start the tracking tasks cannot tell +θ from −θ, and a knee that starts bending backwards
+  // ends on its lower limit. The reference stance itself stays the pose the capture's reference frame
+  // is matched to.
+  std::map<std::string, double> posture_target;
+  // Branch constraints: the IK keeps these joints at or above this value (joint name -> q), tighter than
+  // the URDF's lower limit. A knee whose URDF range reaches a few degrees backwards (G1: −5°) otherwise
+  // crosses to the mirrored branch as the leg straightens (the previous step's momentum carries it over
+  // zero) and then locks on that limit while the real knee bends forward again.
+  std::map<std::string, double> branch_lower_bound;
   std::vector<RobotFoot> feet;
 };
 

@@ -151,6 +151,36 @@ nlohmann::json EvaluateMotion(const MotionData& motion, const Model& model, cons
         whole.power_by_velocity[v];
   }
   result["trial"]["power_by_velocity_w_per_kg"] = by_velocity;
+  // The source's foot contacts as syn-retarget detected them (motion files without them: none reported).
+  if (!motion.contact_feet.empty()) {
+    nlohmann::json contact_frames = nlohmann::json::object();
+    const size_t feet_count = motion.contact_feet.size();
+    int64_t any = 0;
+    for (size_t f = 0; f < feet_count; ++f) {
+      int64_t count = 0;
+      for (int64_t t = 0; t < motion.frames(); ++t) count += motion.contact[static_cast<size_t>(t) * feet_count + f] != 0;
+      contact_frames[motion.contact_feet[f]] = count;
+    }
+    for (int64_t t = 0; t < motion.frames(); ++t) {
+      bool planted = false;
+      for (size_t f = 0; f < feet_count; ++f) planted = planted || motion.contact[static_cast<size_t>(t) * feet_count + f] != 0;
+      any += planted;
+    }
+    result["trial"]["source_contact_frames"] = contact_frames;
+    result["trial"]["source_contact_fraction"] = static_cast<double>(any) / static_cast<double>(motion.frames());
+  }
+  // The free base's residual no admissible contact force explains (syn-retarget's split): mean norms over
+  // the frames, comparable to AddBiomechanics' residual force (2.5–5.7 N on its real-data fits).
+  if (!motion.unexplained_wrench.empty()) {
+    double force = 0, torque = 0;
+    for (int64_t t = 0; t < motion.frames(); ++t) {
+      const double* w = &motion.unexplained_wrench[static_cast<size_t>(t) * 6];
+      torque += std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+      force += std::sqrt(w[3] * w[3] + w[4] * w[4] + w[5] * w[5]);
+    }
+    result["trial"]["unexplained_residual_force_n"] = force / static_cast<double>(motion.frames());
+    result["trial"]["unexplained_residual_torque_nm"] = torque / static_cast<double>(motion.frames());
+  }
   result["segments"] = nlohmann::json::array();
   if (!synergies) return result;
 

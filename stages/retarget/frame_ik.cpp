@@ -6,6 +6,7 @@
 #include <ceres/ceres.h>
 
 #include "common/configuration_space.h"
+#include "stages/retarget/constrained_step.h"
 
 namespace syn {
 namespace {
@@ -174,6 +175,20 @@ struct FrameIk::Impl {
   std::unique_ptr<ceres::SubsetManifold> held_manifold;
   Eigen::VectorXd residual, gradient;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jacobian;
+  // Contact constraints: the feet, the constrained Gauss–Newton step and its work space.
+  std::vector<IkFoot> feet;
+  ConstrainedStep contact_step;
+  ConfigurationShape shape;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> foot_jacobian;
+  Eigen::VectorXd q0, q_now, q_next, step, box_lower, box_upper;
+  std::vector<uint8_t> touching_down;  // per foot, during one solve
+  Eigen::VectorXd saved_delta;
+
+  static int MaxContactRows(const std::vector<IkFoot>& feet) {
+    int rows = 0;
+    for (const IkFoot& foot : feet) rows += std::max<int>(6, static_cast<int>(foot.sole_points.size()));
+    return std::max(rows, 1);
+  }
 
   static ceres::Problem::Options ProblemOptions() {
     ceres::Problem::Options options;
@@ -182,10 +197,14 @@ struct FrameIk::Impl {
   }
 
   Impl(const Model& model_in, std::vector<IkTask> tasks_in, const Eigen::VectorXd& q_ref, double posture_weight,
-       const FrameIkOptions& options_in)
+       const FrameIkOptions& options_in, std::vector<IkFoot> feet_in)
       : model(model_in), tasks(std::move(tasks_in)), q_reference(q_ref), options(options_in),
         first_joint(model_in.hasFreeBase() ? 6 : 0), q_offset(model_in.hasFreeBase() ? 1 : 0),
-        delta(Eigen::VectorXd::Zero(model_in.nu())), problem(ProblemOptions()), workspace(model_in) {
+        delta(Eigen::VectorXd::Zero(model_in.nu())), problem(ProblemOptions()), workspace(model_in),
+        feet(std::move(feet_in)), contact_step(model_in.nu(), MaxContactRows(feet)),
+        shape(ConfigurationShape::Of(model_in.hasFreeBase(), model_in.nq())), foot_jacobian(6, model_in.nu()),
+        q0(model_in.nq()), q_now(model_in.nq()), q_next(model_in.nq()), step(model_in.nu()),
+        box_lower(model_in.nu()), box_upper(model_in.nu()), touching_down(feet.size(), 0) {
     cost = new TrackingCost(model, tasks, q_reference, posture_weight, options.continuity_weight,
                             options.acceleration_weight);
     problem.AddResidualBlock(cost, nullptr, delta.data());
@@ -263,15 +282,125 @@ struct FrameIk::Impl {
     held_manifold = held.empty() ? nullptr : std::make_unique<ceres::SubsetManifold>(model.nu(), held);
     problem.SetManifold(delta.data(), held_manifold.get());
   }
+
+  // The contact rows at q into contact_step (or into c, A when given): a planted foot's position and
+  // orientation error (equalities), every sole point height of a free foot (inequalities z >= 0; with
+  // `only_violated`, only those below the floor, as equalities). Returns the number of rows and whether
+  // any row is an equality or violated (false: nothing to enforce).
+  int fillContactRows(const std::vector<FootState>& states, const Eigen::VectorXd& q, Eigen::MatrixXd& a,
+                      Eigen::VectorXd& c, std::vector<uint8_t>* inequality, bool only_violated, bool* needed) {
+    workspace.setQ(q);
+    int rows = 0;
+    *needed = false;
+    for (size_t f = 0; f < feet.size(); ++f) {
+      const IkFoot& foot = feet[f];
+      const FootState& state = states[f];
+      const Eigen::Isometry3d pose = workspace.findLinkPose(foot.link);
+      if (state.mode == FootMode::kPlanted) {
+        workspace.calcFrameJacobian(foot.link, Eigen::Vector3d::Zero(), foot_jacobian);
+        const Eigen::Vector3d rotation_error = RotationError(pose.linear(), Eigen::Quaterniond(state.planted.linear()));
+        c.segment<3>(rows) = pose.translation() - state.planted.translation();
+        a.middleRows(rows, 3) = foot_jacobian.bottomRows<3>();
+        c.segment<3>(rows + 3) = rotation_error;
+        a.middleRows(rows + 3, 3) = LogJacobian(rotation_error) * foot_jacobian.topRows<3>();
+        if (inequality) std::fill_n(inequality->begin() + rows, 6, 0);
+        rows += 6;
+        *needed = true;
+        continue;
+      }
+      for (const Eigen::Vector3d& point : foot.sole_points) {
+        const double height = (pose * point).z();
+        if (only_violated && height >= 0) continue;
+        // Only a point near the floor can reach it within one step; the rest cost nothing.
+        if (!only_violated && height > 0.05) continue;
+        workspace.calcFrameJacobian(foot.link, point, foot_jacobian);
+        c[rows] = height;
+        a.row(rows) = foot_jacobian.row(5);
+        if (inequality) (*inequality)[static_cast<size_t>(rows)] = !only_violated;
+        *needed = *needed || height < 0;
+        ++rows;
+      }
+    }
+    return rows;
+  }
+
+  // Gauss–Newton steps from q0 ⊕ delta that meet the contact constraints exactly while tracking as
+  // well as they allow (track = true), or the smallest change that meets them (track = false, q0 = the
+  // configuration to project, delta = 0). delta's box: step_lower/step_upper. Returns the violation left.
+  double enforceContacts(const std::vector<FootState>& states, bool track) {
+    double violation = 0;
+    saved_delta = delta;
+    for (int iteration = 0; iteration < options.max_contact_iterations; ++iteration) {
+      Integrate(shape, q0.data(), delta.data(), q_now.data());
+      bool needed = false;
+      const int rows = fillContactRows(states, q_now, contact_step.a(), contact_step.c(), &contact_step.inequality(),
+                                       /*only_violated=*/false, &needed);
+      if (!needed) return 0.0;
+      contact_step.setRows(rows);
+      box_lower = step_lower - delta;
+      box_upper = step_upper - delta;
+      if (track) {
+        costGradient();  // residual and jacobian at delta
+        violation = contact_step.solve(&jacobian, &residual, options.contact_damping, box_lower, box_upper, step);
+      } else {
+        violation = contact_step.solve(nullptr, nullptr, 0.0, box_lower, box_upper, step);
+      }
+      // A trust region: Gauss–Newton without a line search can overshoot far from the constraints.
+      const double largest = step.lpNorm<Eigen::Infinity>();
+      if (largest > options.max_contact_step) step *= options.max_contact_step / largest;
+      // The step is a velocity at q_now; delta stays relative to q0.
+      Integrate(shape, q_now.data(), step.data(), q_next.data());
+      Difference(shape, q0.data(), q_next.data(), delta.data());
+      if (step.lpNorm<Eigen::Infinity>() < options.contact_tolerance) break;
+    }
+    // Constraints that cannot be met (joint limits, the step bound, a pose the legs cannot reach) are
+    // dropped for this frame rather than forced into a wild configuration: the violation is reported.
+    if (violation > options.max_contact_violation) {
+      delta = saved_delta;
+      Integrate(shape, q0.data(), delta.data(), q_now.data());
+      bool needed = false;
+      const int rows = fillContactRows(states, q_now, contact_step.a(), contact_step.c(), &contact_step.inequality(),
+                                       /*only_violated=*/false, &needed);
+      violation = 0;
+      for (int i = 0; i < rows; ++i) {
+        const double value = contact_step.c()[i];
+        violation = std::max(violation, contact_step.inequality()[static_cast<size_t>(i)] ? -value : std::abs(value));
+      }
+    }
+    return violation;
+  }
 };
 
 FrameIk::FrameIk(const Model& model, std::vector<IkTask> tasks, const Eigen::VectorXd& q_reference,
-                 double posture_weight, const FrameIkOptions& options)
-    : impl_(std::make_unique<Impl>(model, std::move(tasks), q_reference, posture_weight, options)) {}
+                 double posture_weight, const FrameIkOptions& options, std::vector<IkFoot> feet)
+    : impl_(std::make_unique<Impl>(model, std::move(tasks), q_reference, posture_weight, options, std::move(feet))) {}
+
+Eigen::Isometry3d FlatOnFloor(const IkFoot& foot, const Eigen::Isometry3d& link_pose) {
+  // The sole plane's normal in the link frame (pointing from the sole toward the link) and its centre.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& point : foot.sole_points) centre += point;
+  centre /= static_cast<double>(std::max<size_t>(1, foot.sole_points.size()));
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  if (foot.sole_points.size() >= 3) {
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+    for (const Eigen::Vector3d& point : foot.sole_points) scatter += (point - centre) * (point - centre).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+    normal = solver.eigenvectors().col(0);  // smallest spread: across the plane
+    if (normal.dot(-centre) < 0) normal = -normal;
+  }
+  const Eigen::Matrix3d flatten =
+      Eigen::Quaterniond::FromTwoVectors(link_pose.linear() * normal, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  Eigen::Isometry3d flat = Eigen::Isometry3d::Identity();
+  flat.linear() = flatten * link_pose.linear();
+  const Eigen::Vector3d centre_world = link_pose * centre;
+  flat.translation() = Eigen::Vector3d(centre_world.x(), centre_world.y(), 0.0) - flat.linear() * centre;
+  return flat;
+}
 
 FrameIk::~FrameIk() = default;
 
-FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
+FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time,
+                              std::vector<FootState>* feet) {
   Impl& impl = *impl_;
   impl.delta.setZero();
   // Bounds are relative to the warm start; keep the start itself feasible.
@@ -329,6 +458,27 @@ FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::Vecto
   for (int u = impl.first_joint; u < impl.model.nu(); ++u) {
     impl.delta[u] = std::clamp(impl.delta[u], impl.step_lower[u], impl.step_upper[u]);
   }
+  // The contacts rank above every task: Gauss–Newton steps with them as exact constraints, from the
+  // tracking solution. A touching-down foot is first kept above the floor, then planted where it landed.
+  if (feet && !impl.feet.empty()) {
+    impl.q0 = q;
+    bool touchdown = false;
+    for (size_t f = 0; f < feet->size(); ++f) {
+      impl.touching_down[f] = (*feet)[f].mode == FootMode::kTouchdown;
+      if (impl.touching_down[f]) (*feet)[f].mode = FootMode::kFree, touchdown = true;
+    }
+    if (touchdown) {
+      impl.enforceContacts(*feet, true);
+      Integrate(impl.shape, impl.q0.data(), impl.delta.data(), impl.q_now.data());
+      impl.workspace.setQ(impl.q_now);
+      for (size_t f = 0; f < feet->size(); ++f) {
+        if (!impl.touching_down[f]) continue;
+        (*feet)[f].mode = FootMode::kPlanted;
+        (*feet)[f].planted = FlatOnFloor(impl.feet[f], impl.workspace.findLinkPose(impl.feet[f].link));
+      }
+    }
+    result.contact_violation = impl.enforceContacts(*feet, true);
+  }
   impl.last_step = impl.delta;
   impl.has_last_step = true;
   Eigen::VectorXd solved(q.size());
@@ -370,6 +520,73 @@ void FrameIk::measureErrors(const std::vector<IkTarget>& targets, const Eigen::V
       angle_error[i] = RotationError(pose.linear(), targets[i].orientation).norm();
     }
   }
+}
+
+double FrameIk::project(const std::vector<FootState>& feet, Eigen::VectorXd& q, const Eigen::VectorXd* previous,
+                        double step_time) {
+  Impl& impl = *impl_;
+  if (impl.feet.empty()) return 0.0;
+  impl.q0 = q;
+  impl.delta.setZero();
+  for (int u = 0; u < impl.model.nu(); ++u) {
+    double low = impl.lower[u], high = impl.upper[u];
+    if (u >= impl.first_joint) {
+      const int q_index = u + impl.q_offset;
+      low -= q[q_index], high -= q[q_index];
+      const double reach = step_time * impl.model.uLimit()[u];
+      if (previous && step_time > 0 && std::isfinite(reach)) {
+        low = std::max(low, std::min((*previous)[q_index] - reach - q[q_index], 0.0));
+        high = std::min(high, std::max((*previous)[q_index] + reach - q[q_index], 0.0));
+      }
+      low = std::min(low, 0.0), high = std::max(high, 0.0);  // q itself stays admissible
+    }
+    impl.step_lower[u] = low, impl.step_upper[u] = high;
+  }
+  const double violation = impl.enforceContacts(feet, false);
+  Integrate(impl.shape, impl.q0.data(), impl.delta.data(), q.data());
+  return violation;
+}
+
+int FrameIk::linearizeContacts(const std::vector<FootState>& feet, const Eigen::VectorXd& q, Eigen::VectorXd& c,
+                               Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& a) {
+  Impl& impl = *impl_;
+  const int max_rows = Impl::MaxContactRows(impl.feet);
+  if (c.size() != max_rows) c.resize(max_rows);
+  if (a.rows() != max_rows || a.cols() != impl.model.nu()) a.resize(max_rows, impl.model.nu());
+  if (impl.feet.empty()) return 0;
+  bool needed = false;
+  Eigen::MatrixXd& work = impl.contact_step.a();
+  Eigen::VectorXd& values = impl.contact_step.c();
+  const int rows = impl.fillContactRows(feet, q, work, values, nullptr, /*only_violated=*/true, &needed);
+  a.topRows(rows) = work.topRows(rows);
+  c.head(rows) = values.head(rows);
+  return rows;
+}
+
+void FrameIk::restrictLower(int q_index, double value) {
+  Impl& impl = *impl_;
+  const int u = q_index - impl.q_offset;
+  if (u >= impl.first_joint && u < impl.model.nu()) impl.lower[u] = std::min(std::max(impl.lower[u], value), impl.upper[u]);
+}
+
+void FrameIk::taskPoses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses) {
+  Impl& impl = *impl_;
+  impl.workspace.setQ(q);
+  poses.resize(impl.tasks.size());
+  for (size_t i = 0; i < impl.tasks.size(); ++i) poses[i] = impl.workspace.findLinkPose(impl.tasks[i].link);
+}
+
+const std::vector<IkFoot>& FrameIk::feet() const { return impl_->feet; }
+
+double FrameIk::lowestSolePoint(const Eigen::VectorXd& q) {
+  Impl& impl = *impl_;
+  impl.workspace.setQ(q);
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const IkFoot& foot : impl.feet) {
+    const Eigen::Isometry3d pose = impl.workspace.findLinkPose(foot.link);
+    for (const Eigen::Vector3d& point : foot.sole_points) lowest = std::min(lowest, (pose * point).z());
+  }
+  return lowest;
 }
 
 }  // namespace syn

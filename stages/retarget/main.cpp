@@ -43,8 +43,13 @@ int main(int argc, char** argv) {
            else if (!text.empty() && *end == '\0' && value > 0) options.scale = value;
            else throw CLI::ValidationError("--scale", "must be auto or a positive number, not '" + text + "'");
          },
-         "Robot/subject height ratio for landmark displacements, or auto (measured: head to feet)")
+         "Robot/subject ratio for every landmark displacement, or auto: measured at the reference stance (head to "
+         "feet; per chain with --chain-proportions)")
       ->default_str("auto");
+  app.add_option("--chain-proportions", options.chain_proportions,
+                 "With --scale auto: scale the pelvis and feet by the hip-to-ankle ratio and the hands (relative to the "
+                 "pelvis) by the torso-to-hand ratio, measured at the reference frame, instead of the height ratio for all")
+      ->capture_default_str();
   app.add_option("--velocity-limit-scale", options.velocity_limit_scale,
                  "Bound each frame's joint step by this fraction of the URDF velocity limit (0: unbounded)")
       ->capture_default_str();
@@ -61,6 +66,31 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-bridge", options.max_bridge,
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")
+      ->capture_default_str();
+  app.add_option("--contacts", options.contacts,
+                 "Detect the source's foot contacts and hold each planted robot foot flat at its touchdown pose, every "
+                 "sole point at z >= 0 (exact constraints above every task); false: none")
+      ->capture_default_str();
+  app.add_option("--contact-height", options.contact.height,
+                 "A source foot is planted below this height (m, capture units) above the capture's ground (estimated: "
+                 "a low percentile of the foot landmarks' heights); 0.05 = GMD's foot-skating contact height")
+      ->capture_default_str();
+  app.add_option("--contact-speed", options.contact.speed,
+                 "... and slower than this horizontal speed (m/s); default 0.5/1.5, so a contact ends by --contact-release "
+                 "at GMD's sliding speed 0.5 m/s")
+      ->capture_default_str();
+  app.add_option("--contact-release", options.contact.release,
+                 "Hysteresis: a contact ends only above height and speed times this (>= 1)")
+      ->capture_default_str();
+  app.add_option("--contact-min-duration", options.contact.min_duration,
+                 "Contact phases shorter than this (s) are dropped (0.1 s: the shortest human stance, sprinting)")
+      ->capture_default_str();
+  app.add_option("--contact-blend", options.contact_blend,
+                 "At a lift-off, every task's error at the last planted frame decays to zero over this time (s) instead of "
+                 "jumping in one frame")
+      ->capture_default_str();
+  app.add_option("--contact-approach", options.contact_approach,
+                 "s: a foot's target blends into its planted pose before a touchdown and out of it after a lift-off")
       ->capture_default_str();
   return syn::RunTool(app, argc, argv, [&] { return options.ToJson(); }, [&] {
     std::string problem;
@@ -83,5 +113,16 @@ int main(int argc, char** argv) {
     syn::WriteMotionData(writer, motion);
     writer.commit();
     std::cerr << "syn-retarget: " << input << " -> " << common.output << ": " << summary.BriefReport() << "\n";
+    if (common.verbose) {
+      for (const auto& [frame, error] : summary.worst_frames) {
+        std::cerr << "syn-retarget: worst priority-1 position error " << error * 1000 << " mm at frame " << frame << " ("
+                  << motion.time_s[static_cast<size_t>(frame)] << " s)\n";
+      }
+      for (size_t i = 0; i < summary.contact_phases.size() && i < summary.phase_drift.size(); ++i) {
+        const syn::ContactPhase& phase = summary.contact_phases[i];
+        std::cerr << "syn-retarget: contact " << summary.foot_sides[static_cast<size_t>(phase.foot)] << " frames "
+                  << phase.begin << "-" << phase.end - 1 << ": stance drift " << summary.phase_drift[i] * 1000 << " mm\n";
+      }
+    }
   });
 }

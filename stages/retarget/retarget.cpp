@@ -10,6 +10,8 @@
 #include "common/configuration_space.h"
 #include "common/error.h"
 #include "common/markers_file.h"
+#include "stages/retarget/contact_forces.h"
+#include "stages/retarget/foot_targets.h"
 #include "stages/retarget/frame_ik.h"
 #include "stages/retarget/landmarks.h"
 #include "stages/retarget/trajectory_refinement.h"
@@ -17,6 +19,9 @@
 
 namespace syn {
 namespace {
+
+// A contact constraint counts as met within this (m or rad).
+constexpr double kContactTolerance = 1e-4;
 
 double Percentile(std::vector<double> values, double fraction) {
   values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }), values.end());
@@ -182,11 +187,21 @@ Eigen::VectorXd GroundedReferenceStance(const Model& model, Workspace& workspace
   return q_ref;
 }
 
-// How capture displacements become robot displacements: turned so the subject faces +X, then scaled.
+// How capture displacements become robot displacements: turned so the subject faces +X, then scaled per
+// kinematic chain. A robot's proportions are not a human's (the G1's legs are shorter for its height),
+// so one height ratio for everything asks a stride the legs cannot make and the pelvis ends tens of cm
+// off its target. Instead the pelvis and the feet move by the leg-length ratio (hip to ankle), the hands
+// with the pelvis plus their own motion relative to it by the arm-length ratio (torso to hand), and any
+// other landmark with the pelvis plus its own motion by the height ratio.
+enum class Chain { kLeg, kArm, kOther };
 struct StanceAlignment {
   Eigen::Matrix3d heading = Eigen::Matrix3d::Identity();
   double heading_rad = 0.0;
-  double scale = 1.0;
+  double scale = 1.0;      // height ratio (head to feet)
+  double leg_scale = 1.0;  // hip-to-ankle ratio
+  double arm_scale = 1.0;  // torso-to-hand ratio
+  std::vector<Chain> chain;  // per task
+  int pelvis_task = -1;      // the task the other chains move with (-1: none, everything by its own chain)
 };
 
 StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
@@ -205,30 +220,60 @@ StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const Tracke
     if (landmark_position(left_name, reference, &a) && landmark_position(right_name, reference, &b)) left += a - b;
   }
   alignment.heading = HeadingAlignment(left, &alignment.heading_rad);
+  for (size_t i = 0; i < tasks.size(); ++i) {
+    const std::string& name = landmarks.names[static_cast<size_t>(tasks.landmark[i])];
+    if (name == "pelvis") alignment.pelvis_task = static_cast<int>(i);
+    alignment.chain.push_back(name == "pelvis" || name == "left_foot" || name == "right_foot" ? Chain::kLeg
+                              : name == "left_hand" || name == "right_hand"                  ? Chain::kArm
+                                                                                             : Chain::kOther);
+  }
   if (options.scale > 0) {
-    alignment.scale = options.scale;
+    alignment.scale = alignment.leg_scale = alignment.arm_scale = options.scale;
     return alignment;
   }
-  Eigen::Vector3d head, left_foot, right_foot;
-  const auto robot_height = [&]() {
-    double head_z = std::nan(""), feet_z = 0;
-    int feet = 0;
+  // Robot lengths from the links' reference poses, subject lengths from the landmarks at the reference frame.
+  auto robot_position = [&](const char* name, Eigen::Vector3d* position) {
     for (size_t i = 0; i < tasks.size(); ++i) {
-      const std::string& name = landmarks.names[static_cast<size_t>(tasks.landmark[i])];
-      if (name == "head") head_z = link_reference[i].translation().z();
-      if (name == "left_foot" || name == "right_foot") feet_z += link_reference[i].translation().z(), ++feet;
+      if (landmarks.names[static_cast<size_t>(tasks.landmark[i])] == name) {
+        *position = link_reference[i].translation();
+        return true;
+      }
     }
-    return feet ? head_z - feet_z / feet : std::nan("");
+    return false;
   };
-  if (landmark_position("head", reference, &head) && landmark_position("left_foot", reference, &left_foot) &&
-      landmark_position("right_foot", reference, &right_foot)) {
-    const double subject = head.z() - 0.5 * (left_foot.z() + right_foot.z());
-    const double robot = robot_height();
-    if (subject > 0.3 && std::isfinite(robot) && robot > 0) alignment.scale = robot / subject;
-    else notes.push_back("could not measure heights (head and feet tasks needed): scale 1");
+  // head − feet, pelvis − feet (vertical) and torso − hands (distance), each a mean over what both have.
+  auto lengths = [&](auto&& position, double* height, double* leg, double* arm) {
+    Eigen::Vector3d head, pelvis, torso, p;
+    double feet_z = 0, arm_sum = 0;
+    int feet = 0, arms = 0;
+    for (const char* foot : {"left_foot", "right_foot"}) {
+      if (position(foot, &p)) feet_z += p.z(), ++feet;
+    }
+    feet_z /= std::max(feet, 1);
+    *height = feet && position("head", &head) ? head.z() - feet_z : std::nan("");
+    *leg = feet && position("pelvis", &pelvis) ? pelvis.z() - feet_z : std::nan("");
+    if (position("upper_torso", &torso)) {
+      for (const char* hand : {"left_hand", "right_hand"}) {
+        if (position(hand, &p)) arm_sum += (p - torso).norm(), ++arms;
+      }
+    }
+    *arm = arms ? arm_sum / arms : std::nan("");
+  };
+  double robot_height, robot_leg, robot_arm, subject_height, subject_leg, subject_arm;
+  lengths(robot_position, &robot_height, &robot_leg, &robot_arm);
+  lengths([&](const char* name, Eigen::Vector3d* position) { return landmark_position(name, reference, position); },
+          &subject_height, &subject_leg, &subject_arm);
+  if (subject_height > 0.3 && robot_height > 0) {
+    alignment.scale = robot_height / subject_height;
   } else {
-    notes.push_back("head or feet missing at the reference frame: scale 1");
+    notes.push_back("could not measure heights (head and feet tasks and landmarks at the reference frame needed): scale 1");
   }
+  alignment.leg_scale = alignment.arm_scale = alignment.scale;
+  if (!options.chain_proportions) return alignment;
+  if (subject_leg > 0.1 && robot_leg > 0) alignment.leg_scale = robot_leg / subject_leg;
+  else notes.push_back("could not measure leg lengths (pelvis and feet): legs scaled by the height ratio");
+  if (subject_arm > 0.1 && robot_arm > 0) alignment.arm_scale = robot_arm / subject_arm;
+  else notes.push_back("could not measure arm lengths (upper torso and hands): arms scaled by the height ratio");
   return alignment;
 }
 
@@ -247,7 +292,22 @@ bool FrameTargets(const LandmarkTrajectories& landmarks, const TrackedTasks& tas
     target.has_orientation = sample.has_orientation && ref.has_orientation;
     if (!target.active) continue;
     any = true;
-    target.position = link_reference[i].translation() + alignment.scale * (alignment.heading * (sample.position - ref.position));
+    const Eigen::Vector3d displacement = sample.position - ref.position;
+    Eigen::Vector3d scaled = alignment.scale * displacement;
+    const Chain chain = alignment.chain[i];
+    if (chain == Chain::kLeg) {
+      scaled = alignment.leg_scale * displacement;
+    } else if (alignment.pelvis_task >= 0) {
+      // With the pelvis, plus the landmark's own motion relative to it by its chain's ratio.
+      const LandmarkSample pelvis = SampleAt(landmarks, t, tasks.landmark[static_cast<size_t>(alignment.pelvis_task)]);
+      const LandmarkSample& pelvis_ref = reference_samples[static_cast<size_t>(alignment.pelvis_task)];
+      if (pelvis.valid && pelvis_ref.valid) {
+        const Eigen::Vector3d pelvis_displacement = pelvis.position - pelvis_ref.position;
+        scaled = alignment.leg_scale * pelvis_displacement +
+                 (chain == Chain::kArm ? alignment.arm_scale : alignment.scale) * (displacement - pelvis_displacement);
+      }
+    }
+    target.position = link_reference[i].translation() + alignment.heading * scaled;
     if (target.has_orientation) {
       const Eigen::Matrix3d relative = (sample.orientation * ref.orientation.conjugate()).toRotationMatrix();
       target.orientation =
@@ -281,41 +341,147 @@ MotionData EmptyMotion(const Model& model, const MarkerData& capture, const Land
   return motion;
 }
 
+// The robot map's feet for the IK's contact constraints.
+std::vector<IkFoot> RobotFeet(const RobotMap& map, const Model& model) {
+  std::vector<IkFoot> feet;
+  for (const RobotFoot& foot : map.feet) {
+    IkFoot ik_foot;
+    ik_foot.link = model.findLinkIndex(foot.link);
+    for (const auto& point : foot.sole_points) ik_foot.sole_points.emplace_back(point[0], point[1], point[2]);
+    feet.push_back(ik_foot);
+  }
+  return feet;
+}
+
+// The task tracking each robot foot's link with its side's "<side>_foot" landmark (-1: none).
+std::vector<int> FootTasks(const RobotMap& map, const Model& model, const LandmarkTrajectories& landmarks,
+                           const TrackedTasks& tasks) {
+  std::vector<int> foot_task(map.feet.size(), -1);
+  for (size_t f = 0; f < map.feet.size(); ++f) {
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      if (landmarks.names[static_cast<size_t>(tasks.landmark[i])] == map.feet[f].side + "_foot" &&
+          tasks.ik[i].link == model.findLinkIndex(map.feet[f].link)) {
+        foot_task[f] = static_cast<int>(i);
+      }
+    }
+  }
+  return foot_task;
+}
+
+// The source's foot contacts, one column per robot foot (its side's "<side>_foot" landmark; a side the
+// marker set has no foot landmark for is never in contact). Detected and stored even with --contacts
+// false, which only drops the constraints.
+FootContacts SourceContacts(const RobotMap& map, const LandmarkTrajectories& landmarks, const std::vector<double>& time_s,
+                            const RetargetOptions& options, std::vector<std::string>& notes) {
+  std::vector<std::vector<Eigen::Vector3d>> positions(map.feet.size());
+  for (size_t f = 0; f < map.feet.size(); ++f) {
+    const std::string name = map.feet[f].side + "_foot";
+    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), name);
+    positions[f].assign(static_cast<size_t>(landmarks.frames), Eigen::Vector3d::Constant(std::nan("")));
+    if (found == landmarks.names.end()) {
+      notes.push_back("marker set has no " + name + " landmark: that foot has no contact constraint");
+      continue;
+    }
+    for (int64_t t = 0; t < landmarks.frames; ++t) {
+      positions[f][static_cast<size_t>(t)] = SampleAt(landmarks, t, found - landmarks.names.begin()).position;
+    }
+  }
+  return DetectContacts(positions, time_s, options.contact);
+}
+
 // Per-frame IK over the whole capture, each frame warm-started from the previous one. Frames with no
 // target keep the previous solution and are listed in `bridged`; `frame_targets` keeps what each solved
 // frame tracked, for the refinement.
-void SolveFrames(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
-                 const std::vector<LandmarkSample>& reference_samples, const std::vector<Eigen::Isometry3d>& link_reference,
-                 const StanceAlignment& alignment, const Eigen::VectorXd& q_ref, const RetargetOptions& options,
-                 FrameIk& ik, MotionData& motion, std::vector<std::vector<IkTarget>>& frame_targets,
+void SolveFrames(const TrackedTasks& tasks, const Eigen::VectorXd& q_ref, const RetargetOptions& options,
+                 const FootContacts& contacts, FrameIk& ik, MotionData& motion,
+                 const std::vector<std::vector<IkTarget>>& frame_targets, std::vector<FootState>& foot_states,
                  std::vector<int64_t>& bridged, RetargetSummary& report) {
-  const int64_t frames = landmarks.frames, nq = static_cast<int64_t>(q_ref.size());
+  const int64_t frames = motion.frames(), nq = static_cast<int64_t>(q_ref.size());
+  const size_t feet = foot_states.size() / static_cast<size_t>(std::max<int64_t>(frames, 1));  // 0: no constraints
   std::vector<IkTarget> targets(tasks.size());
+  std::vector<FootState> feet_now(feet);
+  // Lift-off: while a foot was planted, the tasks it holds back (the foot itself, the pelvis a planted
+  // leg cannot bring all the way) were left off their targets; released at once, they would jump there
+  // in one frame. So at a lift-off every task's error at the last planted frame is carried into its
+  // target and decays to zero over --contact-blend seconds (smoothstep).
+  double lifted_at = std::nan("");
+  std::vector<Eigen::Vector3d> carried_position(tasks.size(), Eigen::Vector3d::Zero());
+  std::vector<Eigen::Quaterniond> carried_rotation(tasks.size(), Eigen::Quaterniond::Identity());
+  std::vector<Eigen::Isometry3d> achieved;
+  std::vector<IkTarget> previous_targets(tasks.size());
+  bool previous_solved = false;
   Eigen::VectorXd q = q_ref;
   double last_solved_time = std::nan("");  // the first solve may travel from q_ref freely
   for (int64_t t = 0; t < frames; ++t) {
-    if (!FrameTargets(landmarks, tasks, reference_samples, link_reference, alignment, t, targets, motion)) {
+    const double now = motion.time_s[static_cast<size_t>(t)];
+    // A contact continues from the previous frame (planted where it touched down) or begins here.
+    bool lift_off = false;
+    for (size_t f = 0; f < feet; ++f) {
+      const bool planted = contacts.at(t, static_cast<int>(f));
+      lift_off = lift_off || (!planted && feet_now[f].mode == FootMode::kPlanted);
+      if (!planted) feet_now[f].mode = FootMode::kFree;
+      else if (feet_now[f].mode == FootMode::kFree) feet_now[f].mode = FootMode::kTouchdown;
+    }
+    if (lift_off && previous_solved && options.contact_blend > 0) {
+      lifted_at = now;
+      ik.taskPoses(q, achieved);
+      for (size_t i = 0; i < tasks.size(); ++i) {
+        const IkTarget& before = previous_targets[i];
+        carried_position[i] = before.active ? Eigen::Vector3d(achieved[i].translation() - before.position) : Eigen::Vector3d::Zero();
+        carried_rotation[i] = before.active && before.has_orientation
+                                  ? Eigen::Quaterniond(achieved[i].linear() * before.orientation.toRotationMatrix().transpose())
+                                  : Eigen::Quaterniond::Identity();
+      }
+    }
+    const bool has_targets = !frame_targets[static_cast<size_t>(t)].empty();
+    if (has_targets) targets = frame_targets[static_cast<size_t>(t)];
+    if (std::isfinite(lifted_at) && has_targets) {
+      const double x = (now - lifted_at) / options.contact_blend;
+      if (x >= 1.0) {
+        lifted_at = std::nan("");
+      } else {
+        const double remaining = 1.0 - x * x * (3 - 2 * x);
+        for (size_t i = 0; i < tasks.size(); ++i) {
+          IkTarget& target = targets[i];
+          if (!target.active) continue;
+          target.position += remaining * carried_position[i];
+          if (target.has_orientation) {
+            target.orientation = (Eigen::Quaterniond::Identity().slerp(remaining, carried_rotation[i]) * target.orientation).normalized();
+          }
+        }
+      }
+    }
+    previous_solved = has_targets;
+    if (has_targets) previous_targets = targets;
+    if (!has_targets) {
       bridged.push_back(t);
       ik.forgetHistory();
+      for (FootState& state : feet_now) state.mode = FootMode::kFree;  // the bridge is interpolated, unconstrained
     } else {
       const double step_time = std::isfinite(last_solved_time) ? options.velocity_limit_scale *
                                                                      (motion.time_s[static_cast<size_t>(t)] - last_solved_time)
                                                                : 0.0;
-      FrameIkSummary solved = ik.solve(targets, q, step_time);
-      report.mean_ik_iterations += solved.iterations;
       // The first frame travels from the reference stance, far from its answer: solve it again from its
-      // own result until it settles, or the next frames would finish the journey as a jump.
-      for (int again = 0; !std::isfinite(last_solved_time) && again < 10; ++again) {
+      // own result until it settles, or the next frames would finish the journey as a jump. Its feet are
+      // planted only once it has settled, where they then are.
+      const bool first = !std::isfinite(last_solved_time);
+      FrameIkSummary solved = ik.solve(targets, q, step_time, first ? nullptr : &feet_now);
+      report.mean_ik_iterations += solved.iterations;
+      for (int again = 0; first && again < 10; ++again) {
         ik.forgetHistory();
         const FrameIkSummary more = ik.solve(targets, q, 0.0);
         report.mean_ik_iterations += more.iterations;
         if (more.final_cost > (1 - 1e-6) * solved.final_cost) break;
         solved = more;
       }
-      if (!std::isfinite(last_solved_time)) ik.forgetHistory();
+      if (first) {
+        ik.forgetHistory();
+        solved = ik.solve(targets, q, 0.0, &feet_now);
+        ik.forgetHistory();
+      }
       last_solved_time = motion.time_s[static_cast<size_t>(t)];
-      frame_targets[static_cast<size_t>(t)] = targets;
     }
+    std::copy(feet_now.begin(), feet_now.end(), foot_states.begin() + static_cast<long>(static_cast<size_t>(t) * feet));
     std::copy(q.data(), q.data() + nq, motion.q.begin() + t * nq);
   }
   report.mean_ik_iterations /= static_cast<double>(std::max<int64_t>(1, frames - static_cast<int64_t>(bridged.size())));
@@ -349,6 +515,92 @@ void MeasureLandmarkErrors(FrameIk& ik, const TrackedTasks& tasks, const std::ve
   }
 }
 
+// After the refinement, each frame in turn is moved by the least change that meets its contact
+// constraints again, within the joint limits and the velocity bound from the previous (final) frame.
+void ProjectOntoContacts(FrameIk& ik, const Model& model, const std::vector<FootState>& foot_states, size_t feet,
+                         const std::vector<double>& time_s, double velocity_limit_scale, std::vector<double>& q,
+                         RetargetSummary& report) {
+  if (feet == 0) return;
+  const int64_t nq = model.nq(), frames = static_cast<int64_t>(time_s.size());
+  Eigen::VectorXd frame_q(nq), previous(nq);
+  std::vector<FootState> states(feet);
+  for (int64_t t = 0; t < frames; ++t) {
+    frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
+    std::copy_n(foot_states.begin() + static_cast<long>(static_cast<size_t>(t) * feet), feet, states.begin());
+    const double step_time =
+        t > 0 ? velocity_limit_scale * (time_s[static_cast<size_t>(t)] - time_s[static_cast<size_t>(t - 1)]) : 0.0;
+    double violation = ik.project(states, frame_q, t > 0 ? &previous : nullptr, step_time);
+    // The velocity bound from the previous final frame holds even where the constraints could not be met
+    // (the projection then kept the refined frame, whose bound was from the previous frame before its
+    // projection): continuity ranks above a contact the robot cannot keep.
+    if (t > 0 && step_time > 0) {
+      for (int u = model.hasFreeBase() ? 6 : 0; u < model.nu(); ++u) {
+        const int i = u + (model.hasFreeBase() ? 1 : 0);
+        const double reach = step_time * model.uLimit()[u];
+        if (!std::isfinite(reach)) continue;
+        const double clamped = std::clamp(frame_q[i], previous[i] - reach, previous[i] + reach);
+        if (clamped != frame_q[i]) violation = std::max(violation, 2 * kContactTolerance);
+        frame_q[i] = std::clamp(clamped, model.qLower()[i], model.qUpper()[i]);
+      }
+    }
+    if (violation > kContactTolerance) ++report.constraint_violations;
+    std::copy(frame_q.data(), frame_q.data() + nq, q.begin() + t * nq);
+    previous = frame_q;
+  }
+}
+
+// What a user checks on the final motion: per contact phase the stance foot's drift from its touchdown
+// position; the deepest sole point; the frames worst tracked.
+void MeasureContacts(FrameIk& ik, const Model& model, Workspace& workspace, const FootContacts& contacts,
+                     const TrackedTasks& tasks, const MotionData& motion, RetargetSummary& report) {
+  const int64_t nq = model.nq();
+  const std::vector<IkFoot>& feet = ik.feet();
+  Eigen::VectorXd q(nq);
+  auto frame_q = [&](int64_t t) -> const Eigen::VectorXd& {
+    q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
+    return q;
+  };
+  for (int f = 0; f < contacts.feet; ++f) report.contact_frames.push_back(contacts.framesInContact(f));
+  report.contact_phases = contacts.phases;
+  for (const ContactPhase& phase : contacts.phases) {
+    const int link = feet[static_cast<size_t>(phase.foot)].link;
+    workspace.setQ(frame_q(phase.begin));
+    const Eigen::Vector3d start = workspace.findLinkPose(link).translation();
+    double drift = 0;
+    for (int64_t t = phase.begin + 1; t < phase.end; ++t) {
+      workspace.setQ(frame_q(t));
+      drift = std::max(drift, (workspace.findLinkPose(link).translation() - start).head<2>().norm());
+    }
+    report.phase_drift.push_back(drift);
+  }
+  if (!report.phase_drift.empty()) {
+    report.median_drift = Percentile(report.phase_drift, 0.5);
+    report.p95_drift = Percentile(report.phase_drift, 0.95);
+    report.max_drift = *std::max_element(report.phase_drift.begin(), report.phase_drift.end());
+  }
+  if (!feet.empty()) {
+    for (int64_t t = 0; t < motion.frames(); ++t) {
+      const double depth = -ik.lowestSolePoint(frame_q(t));
+      if (depth > report.deepest_penetration) report.deepest_penetration = depth, report.deepest_frame = t;
+    }
+  }
+  // The five frames with the largest priority-1 position error.
+  const size_t task_count = tasks.size();
+  std::vector<std::pair<int64_t, double>> worst;
+  for (int64_t t = 0; t < motion.frames(); ++t) {
+    double error = 0;
+    for (size_t i = 0; i < task_count; ++i) {
+      const double e = motion.landmark_error[(static_cast<size_t>(t) * task_count + i) * 2];
+      if (tasks.priority[i] == 1 && std::isfinite(e)) error = std::max(error, e);
+    }
+    worst.emplace_back(t, error);
+  }
+  const size_t keep = std::min<size_t>(5, worst.size());
+  std::partial_sort(worst.begin(), worst.begin() + static_cast<long>(keep), worst.end(),
+                    [](const auto& a, const auto& b) { return a.second > b.second || (a.second == b.second && a.first < b.first); });
+  report.worst_frames.assign(worst.begin(), worst.begin() + static_cast<long>(keep));
+}
+
 // Velocities, accelerations and the torques that produce them (Simbody inverse dynamics).
 void ComputeDynamics(const Model& model, Workspace& workspace, MotionData& motion) {
   const int64_t frames = motion.frames(), nq = model.nq(), nu = model.nu();
@@ -364,6 +616,45 @@ void ComputeDynamics(const Model& model, Workspace& workspace, MotionData& motio
     workspace.calcInverseDynamics(frame_udot, frame_tau);
     std::copy(frame_tau.data(), frame_tau.data() + nu, motion.tau.begin() + t * nu);
   }
+}
+
+// The free base's residual wrench split into contact forces and the unexplained rest (contact_forces.h).
+void SplitBaseResidual(const Model& model, Workspace& workspace, const std::vector<IkFoot>& feet, MotionData& motion,
+                       RetargetSummary& report) {
+  if (!model.hasFreeBase() || feet.empty()) return;
+  const int64_t frames = motion.frames(), nq = model.nq(), nu = model.nu();
+  int points = 0;
+  std::vector<int> foot_of_point;
+  for (size_t f = 0; f < feet.size(); ++f) {
+    points += static_cast<int>(feet[f].sole_points.size());
+    foot_of_point.insert(foot_of_point.end(), feet[f].sole_points.size(), static_cast<int>(f));
+  }
+  ContactForceSplit splitter(points, ContactForceOptions{});
+  std::vector<Eigen::Vector3d> world(static_cast<size_t>(points)), foot_force;
+  motion.contact_force.assign(static_cast<size_t>(frames) * feet.size() * 3, 0.0);
+  motion.unexplained_wrench.assign(static_cast<size_t>(frames) * 6, 0.0);
+  Eigen::VectorXd q(nq);
+  Eigen::Matrix<double, 6, 1> residual, unexplained;
+  std::vector<double> force_norm, moment_norm;
+  for (int64_t t = 0; t < frames; ++t) {
+    q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
+    workspace.setQ(q);
+    size_t p = 0;
+    for (const IkFoot& foot : feet) {
+      const Eigen::Isometry3d pose = workspace.findLinkPose(foot.link);
+      for (const Eigen::Vector3d& point : foot.sole_points) world[p++] = pose * point;
+    }
+    residual = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(&motion.tau[static_cast<size_t>(t * nu)]);
+    splitter.split(world, foot_of_point, static_cast<int>(feet.size()), q.segment<3>(4), residual, foot_force, unexplained);
+    for (size_t f = 0; f < feet.size(); ++f) {
+      std::copy_n(foot_force[f].data(), 3, &motion.contact_force[(static_cast<size_t>(t) * feet.size() + f) * 3]);
+    }
+    std::copy_n(unexplained.data(), 6, &motion.unexplained_wrench[static_cast<size_t>(t) * 6]);
+    moment_norm.push_back(unexplained.head<3>().norm());
+    force_norm.push_back(unexplained.tail<3>().norm());
+  }
+  report.median_unexplained_force = Percentile(force_norm, 0.5);
+  report.median_unexplained_torque = Percentile(moment_norm, 0.5);
 }
 
 // Continuity: the largest per-frame change of any joint coordinate.
@@ -419,7 +710,9 @@ bool RetargetOptions::IsValid(std::string* error) const {
   if (max_bridge < 0) return fail("--max-bridge must be >= 0");
   if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
   if (!(ik_function_tolerance > 0 && ik_function_tolerance < 1)) return fail("--ik-function-tolerance must be in (0, 1)");
-  return true;
+  if (!(contact_blend >= 0)) return fail("--contact-blend must be >= 0 (s)");
+  if (!(contact_approach >= 0)) return fail("--contact-approach must be >= 0 (s)");
+  return contact.IsValid(error);
 }
 
 nlohmann::json RetargetOptions::ToJson() const {
@@ -427,18 +720,34 @@ nlohmann::json RetargetOptions::ToJson() const {
   if (scale > 0) scale_json = scale;
   return {{"floating_base", FloatingBaseChoiceName(floating_base)}, {"reference_time", reference_time},
           {"scale", scale_json}, {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale},
-          {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance}};
+          {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance}, {"contacts", contacts},
+          {"contact_height", contact.height}, {"contact_speed", contact.speed}, {"contact_release", contact.release},
+          {"contact_min_duration", contact.min_duration}, {"contact_blend", contact_blend}, {"contact_approach", contact_approach}, {"chain_proportions", chain_proportions}};
 }
 
 std::string RetargetSummary::BriefReport() const {
   std::ostringstream out;
   out.precision(3);
-  out << frames << " frames, reference frame " << reference_frame << ", scale " << scale << "; median/p95 error "
+  out << frames << " frames, reference frame " << reference_frame << ", scale " << scale << " (legs " << leg_scale
+      << ", arms " << arm_scale << "); median/p95 error "
       << "P1 " << median_position_error[0] * 1000 << "/" << p95_position_error[0] * 1000 << " mm "
       << median_angle_error[0] * 180 / M_PI << "/" << p95_angle_error[0] * 180 / M_PI << " deg, "
       << "P2 " << median_position_error[1] * 1000 << "/" << p95_position_error[1] * 1000 << " mm "
       << median_angle_error[1] * 180 / M_PI << "/" << p95_angle_error[1] * 180 / M_PI << " deg; worst joint step "
       << worst_joint_step << " rad (" << worst_joint_step_name << "); IK " << ik_seconds << " s, " << mean_ik_iterations << " iterations/frame; refinement " << refinement_seconds << " s";
+  if (!foot_sides.empty()) {
+    out << "; contact frames";
+    for (size_t f = 0; f < foot_sides.size() && f < contact_frames.size(); ++f) out << " " << foot_sides[f] << " " << contact_frames[f];
+    out << ", " << contact_phases.size() << " phases, stance drift median/p95/max " << median_drift * 1000 << "/"
+        << p95_drift * 1000 << "/" << max_drift * 1000 << " mm, deepest sole point " << deepest_penetration * 1000
+        << " mm below the floor";
+    if (deepest_frame >= 0) out << " (frame " << deepest_frame << ")";
+    out << ", " << constraint_violations << " frames with unmet contact constraints";
+    if (std::isfinite(median_unexplained_force)) {
+      out << "; base residual no contact explains: median " << median_unexplained_force << " N, "
+          << median_unexplained_torque << " N m";
+    }
+  }
   return out.str();
 }
 
@@ -481,22 +790,50 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   const StanceAlignment alignment = AlignToRobot(landmarks, tasks, link_reference, reference, options, report.notes);
   report.heading_rad = alignment.heading_rad;
   report.scale = alignment.scale;
+  report.leg_scale = alignment.leg_scale;
+  report.arm_scale = alignment.arm_scale;
 
   std::vector<LandmarkSample> reference_samples;
   for (int64_t landmark : tasks.landmark) reference_samples.push_back(SampleAt(landmarks, reference, landmark));
   const RobotMap& map = inputs.map;
   const double posture_weight =
       map.priority_weights[static_cast<size_t>(map.posture_priority - 1)] * map.posture_weight * options.posture_scale;
+  // The posture target: the reference stance with the map's posture_target joints (a flexed knee).
+  Eigen::VectorXd q_posture = q_ref;
+  const auto coordinate_names = model.coordinateNames();
+  for (const auto& [joint, value] : map.posture_target) {
+    q_posture[std::find(coordinate_names.begin(), coordinate_names.end(), joint) - coordinate_names.begin()] = value;
+  }
   FrameIkOptions ik_options;
   ik_options.function_tolerance = options.ik_function_tolerance;
-  FrameIk ik(model, tasks.ik, q_ref, posture_weight, ik_options);
+  FrameIk ik(model, tasks.ik, q_posture, posture_weight, ik_options, options.contacts ? RobotFeet(map, model)
+                                                                                          : std::vector<IkFoot>{});
+  for (const auto& [joint, value] : map.branch_lower_bound) {
+    ik.restrictLower(static_cast<int>(std::find(coordinate_names.begin(), coordinate_names.end(), joint) - coordinate_names.begin()), value);
+  }
+  const FootContacts contacts = SourceContacts(map, landmarks, inputs.capture.time_s, options, report.notes);
+  const size_t feet = options.contacts ? map.feet.size() : 0;
 
   MotionData motion = EmptyMotion(model, inputs.capture, landmarks, tasks);
   std::vector<int64_t> bridged;
-  std::vector<std::vector<IkTarget>> frame_targets(static_cast<size_t>(frames));
+  // Every frame's targets (the source scaled to the robot, stored in the motion and measured against),
+  // then the feet's made consistent with the contacts (foot_targets.h) for the IK and the refinement.
+  std::vector<std::vector<IkTarget>> source_targets(static_cast<size_t>(frames));
+  for (int64_t t = 0; t < frames; ++t) {
+    std::vector<IkTarget> targets(tasks.size());
+    if (FrameTargets(landmarks, tasks, reference_samples, link_reference, alignment, t, targets, motion)) {
+      source_targets[static_cast<size_t>(t)] = std::move(targets);
+    }
+  }
+  std::vector<std::vector<IkTarget>> frame_targets = source_targets;
+  if (feet) {
+    FootTargetOptions shaping;
+    shaping.approach = options.contact_approach;
+    ShapeFootTargets(ik.feet(), FootTasks(map, model, landmarks, tasks), contacts, motion.time_s, shaping, frame_targets);
+  }
+  std::vector<FootState> foot_states(static_cast<size_t>(frames) * feet);
   const auto start = std::chrono::steady_clock::now();
-  SolveFrames(landmarks, tasks, reference_samples, link_reference, alignment, q_ref, options, ik, motion, frame_targets,
-              bridged, report);
+  SolveFrames(tasks, q_posture, options, contacts, ik, motion, frame_targets, foot_states, bridged, report);
   report.ik_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   BridgeGaps(model, motion.time_s, bridged, options.max_bridge, inputs.capture_path, motion.q);
 
@@ -504,11 +841,17 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   RefinementOptions refinement;
   refinement.smoothing = options.smoothing;
   refinement.velocity_limit_scale = options.velocity_limit_scale;
-  RefineTrajectory(ik, model, frame_targets, motion.time_s, motion.q, refinement);
+  RefineTrajectory(ik, model, frame_targets, motion.time_s, motion.q, refinement, feet ? &foot_states : nullptr);
+  ProjectOntoContacts(ik, model, foot_states, feet, motion.time_s, options.velocity_limit_scale, motion.q, report);
   report.refinement_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - refine_start).count();
 
-  MeasureLandmarkErrors(ik, tasks, frame_targets, model.nq(), motion, report);
+  MeasureLandmarkErrors(ik, tasks, source_targets, model.nq(), motion, report);
+  for (const RobotFoot& foot : map.feet) motion.contact_feet.push_back(foot.side);
+  motion.contact.assign(contacts.contact.begin(), contacts.contact.end());
+  for (const RobotFoot& foot : map.feet) report.foot_sides.push_back(foot.side);
+  if (feet) MeasureContacts(ik, model, workspace, contacts, tasks, motion, report);
   ComputeDynamics(model, workspace, motion);
+  if (feet) SplitBaseResidual(model, workspace, ik.feet(), motion, report);
   FindWorstJointStep(model, motion, report);
   report.frames = frames;
   return motion;

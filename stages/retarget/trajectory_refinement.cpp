@@ -58,7 +58,8 @@ void TangentStep(const Model& model, const double* q0, const double* q1, Eigen::
 }  // namespace
 
 void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::vector<IkTarget>>& targets,
-                      const std::vector<double>& times, std::vector<double>& q, const RefinementOptions& options) {
+                      const std::vector<double>& times, std::vector<double>& q, const RefinementOptions& options,
+                      const std::vector<FootState>* foot_states) {
   const int64_t frames = static_cast<int64_t>(times.size()), nq = model.nq(), nu = model.nu();
   if (options.smoothing <= 0 || frames < 3) return;
   const int first_joint = model.hasFreeBase() ? 6 : 0, q_offset = model.hasFreeBase() ? 1 : 0;
@@ -70,7 +71,10 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
   BlockBandedSystem system;
   std::vector<Eigen::VectorXd> solution;
   Eigen::VectorXd residual, frame_q(nq);
-  RowMatrix jacobian;
+  RowMatrix jacobian, contact_jacobian;
+  Eigen::VectorXd contact_residual;
+  const size_t feet = ik.feet().size();
+  std::vector<FootState> frame_feet(feet);
   const int64_t advance = std::max(3, options.window - options.overlap);
   for (int64_t start = 0; start < frames - 2; start += advance) {
     const int64_t end = std::min(frames, start + options.window);
@@ -97,6 +101,15 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
       if (!targets[t].empty()) {
         ik.linearize(targets[t], frame_q, residual, jacobian);
         AddTracking(system, k, residual, jacobian);
+      }
+      if (foot_states && feet > 0) {
+        std::copy_n(foot_states->begin() + static_cast<long>(t * feet), feet, frame_feet.begin());
+        const int rows = ik.linearizeContacts(frame_feet, frame_q, contact_residual, contact_jacobian);
+        if (rows > 0) {
+          const auto a = contact_jacobian.topRows(rows);
+          system.diagonal(k).selfadjointView<Eigen::Lower>().rankUpdate(a.transpose(), kContactWeight * kContactWeight);
+          system.rhs(k).noalias() -= kContactWeight * kContactWeight * (a.transpose() * contact_residual.head(rows));
+        }
       }
     }
     for (int k = 1; k + 1 < blocks; ++k) {

@@ -31,7 +31,12 @@ struct RefinementOptions {
 };
 
 // `targets[t]` empty: no target that frame (smoothness alone decides it). q: [T, nq] row-major, in place.
+// foot_states ([T, feet], or null): each frame's contact constraints (frame_ik.h), linearised and added as
+// residuals with weight kContactWeight, so the refined trajectory keeps them up to its linearisation; the
+// caller then meets them exactly frame by frame (FrameIk::project), a correction this keeps small and smooth.
+inline constexpr double kContactWeight = 30.0;
 void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::vector<IkTarget>>& targets,
-                      const std::vector<double>& times, std::vector<double>& q, const RefinementOptions& options);
+                      const std::vector<double>& times, std::vector<double>& q, const RefinementOptions& options,
+                      const std::vector<FootState>* foot_states = nullptr);
 
 }  // namespace syn

@@ -6,8 +6,15 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <filesystem>
+#include <string>
+#include <unistd.h>
 
 #include "common/assembler_tracking.h"
+#include "common/intermediate_file.h"
+#include "common/markers_file.h"
+#include "stages/ingest/ingest.h"
+#include "stages/retarget/retarget.h"
 #include "common/model.h"
 #include "stages/retarget/frame_ik.h"
 #include "common/robot_map.h"
@@ -172,6 +179,45 @@ void InverseDynamicsG1(benchmark::State& state) {
   state.counters["frames_per_second"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
 }
 
+// The whole stage on real captures (CMU 02_01 walk, 94_07 dance) onto the G1: loading, landmarks, contact
+// detection, IK, refinement, contact projection and inverse dynamics, with the contact constraints off
+// (argument 0, the stage before issue 17 in all but its knee posture target) and on (argument 1).
+void WholeStageRealDataG1(benchmark::State& state) {
+  const std::string shared = SYN_SHARED_DATASETS;
+  const std::vector<std::string> trials = {"02/02_01.bvh", "94/94_07.bvh"};
+  if (!std::filesystem::exists(shared + "/cmu_bvh/" + trials[0])) {
+    state.SkipWithError("shared datasets absent");
+    return;
+  }
+  const std::string dir = std::filesystem::temp_directory_path() / ("syn_bench_retarget_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::vector<std::string> markers;
+  for (const std::string& trial : trials) {
+    IngestOptions ingest;
+    ingest.drop_first_frame = true;
+    markers.push_back(dir + "/" + std::filesystem::path(trial).stem().string() + ".markers.h5");
+    IntermediateWriter writer(markers.back(), {kMarkersSchema, kMarkersSchemaVersion, "bench", {}, nlohmann::json::array()});
+    WriteMarkerData(writer, IngestCapture(shared + "/cmu_bvh/" + trial, ingest, nullptr));
+    writer.commit();
+  }
+  RetargetOptions options;
+  options.model = std::string(SYN_SOURCE_DIR) + "/datasets/robots/unitree_g1/g1_29dof.urdf";
+  options.robot_map = std::string(SYN_SOURCE_DIR) + "/manifests/robots/g1.toml";
+  options.markerset = std::string(SYN_SOURCE_DIR) + "/manifests/markersets/cmu-bvh.toml";
+  options.contacts = state.range(0) != 0;
+  int64_t frames = 0;
+  for (auto _ : state) {
+    for (const std::string& path : markers) {
+      RetargetSummary summary;
+      const MotionData motion = RetargetFile(path, options, &summary);
+      frames += motion.frames();
+    }
+  }
+  std::filesystem::remove_all(dir);
+  state.counters["frames_per_second"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
+}
+
+BENCHMARK(WholeStageRealDataG1)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(FrameIkG1)->Unit(benchmark::kMillisecond);
 BENCHMARK(AssemblerG1)->Unit(benchmark::kMillisecond);
 BENCHMARK(RefinementG1)->Unit(benchmark::kMillisecond);

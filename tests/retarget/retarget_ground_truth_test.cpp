@@ -104,6 +104,9 @@ TEST_F(RetargetGroundTruth, SmoothG1TrajectoryIsRecovered) {
   options.robot_map = map_path_;
   options.markerset = (dir_ / "truth.toml").string();
   options.scale = 1.0;
+  // The synthetic trajectory ignores the floor (its soles dip below z = 0 and slide while low), so the
+  // contact constraints (issue 17) would rightly move it off the truth: this test is about tracking.
+  options.contacts = false;
   RetargetSummary summary;
   const MotionData motion = RetargetFile(markers, options, &summary);
   ASSERT_EQ(motion.frames(), frames);

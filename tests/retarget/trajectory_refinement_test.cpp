@@ -62,7 +62,9 @@ TEST(TrajectoryRefinement, SmoothsRealRetargetingAndKeepsTracking) {
             << " mm\n";
   // Measured at the default smoothing: 385 -> 66 rad/s^2, median P1 41.0 -> 42.1 mm.
   EXPECT_LT(refined_rms, 0.5 * raw_rms);
-  EXPECT_LT(MedianPriorityOneError(refined_summary), MedianPriorityOneError(raw_summary) + 0.002);
+  // With the contact constraints (issue 17) the refined trajectory is projected back onto them frame by
+  // frame, which moves it off the refinement's optimum: measured 50.6 -> 54.3 mm, hence 5 mm (was 2 mm).
+  EXPECT_LT(MedianPriorityOneError(refined_summary), MedianPriorityOneError(raw_summary) + 0.005);
   // The refinement keeps the joint limits.
   const Model model = Model::Load(options.model);
   for (int64_t t = 0; t < refined.frames(); ++t) {
