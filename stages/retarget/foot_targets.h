@@ -25,6 +25,9 @@ struct FootTargetOptions {
   // Blend time before a touchdown and after a lift-off (s). 0.1 s: a quarter of a walking swing
   // (~0.4 s), long enough that a 10° heel-strike tilt turns flat at ~2 rad/s instead of in one frame.
   double approach = 0.1;
+  // A planted foot pitches with the source about its toe or heel edge beyond this (rad): 0.05 ≈ 3°,
+  // above a flat foot's marker noise, so a flat stance stays exactly flat.
+  double roll_dead_zone = 0.05;
 };
 
 // frame_targets[t][i]: every frame's targets (inactive where the landmark is missing); foot_task[f]: the

@@ -86,25 +86,26 @@ class TrackingCost final : public ceres::CostFunction {
     for (size_t i = 0; i < tasks_.size(); ++i) {
       const IkTask& task = tasks_[i];
       const IkTarget& target = (*targets_)[i];
-      if (!target.active || task.weight == 0.0) continue;
+      const double weight = task.weight;
+      if (!target.active || weight == 0.0) continue;
       const int row = task_row_[i];
       const int orientation_row = task.type == TaskType::kPose ? row + 3 : row;
       const Eigen::Isometry3d pose = workspace_.findLinkPose(task.link);
       const bool use_position = task.type != TaskType::kOrientation;
       const bool use_orientation = task.type != TaskType::kPosition && target.has_orientation;
-      if (use_position) r.segment<3>(row) = task.weight * (pose.translation() - target.position);
+      if (use_position) r.segment<3>(row) = weight * (pose.translation() - target.position);
       Eigen::Vector3d rotation_error = Eigen::Vector3d::Zero();
       if (use_orientation) {
         rotation_error = RotationError(pose.linear(), target.orientation);
-        r.segment<3>(orientation_row) = task.weight * rotation_error;
+        r.segment<3>(orientation_row) = weight * rotation_error;
       }
       if (!J) continue;
       workspace_.calcFrameJacobian(task.link, Eigen::Vector3d::Zero(), jacobian_);
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jacobian(J, num_residuals(), nu);
       // Frame Jacobian rows: angular velocity (0..2), then linear velocity of the link origin (3..5).
-      if (use_position) jacobian.block(row, 0, 3, nu) = task.weight * jacobian_.bottomRows<3>();
+      if (use_position) jacobian.block(row, 0, 3, nu) = weight * jacobian_.bottomRows<3>();
       if (use_orientation) {
-        jacobian.block(orientation_row, 0, 3, nu) = task.weight * LogJacobian(rotation_error) * jacobian_.topRows<3>();
+        jacobian.block(orientation_row, 0, 3, nu) = weight * LogJacobian(rotation_error) * jacobian_.topRows<3>();
       }
     }
     // Three per-joint terms, all linear in δ on one coordinate, so they add up to one row each:

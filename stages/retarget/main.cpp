@@ -68,8 +68,17 @@ int main(int argc, char** argv) {
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")
       ->capture_default_str();
   app.add_option("--contacts", options.contacts,
-                 "Detect the source's foot contacts and hold each planted robot foot flat at its touchdown pose, every "
-                 "sole point at z >= 0 (exact constraints above every task); false: none")
+                 "Detect the source's foot contacts and plant the robot's feet: a planted foot's target is flat on the "
+                 "floor at its pose, rolling about the toe or heel edge as the source does, blended in and out; the upper "
+                 "body is lowered where a foot target is out of its leg's reach; false: the source's targets as they are")
+      ->capture_default_str();
+  app.add_option("--leg-reach", options.leg_reach,
+                 "With --contacts: lower the upper body (at most 15 % of the leg) where a foot target is further from its "
+                 "hip than 97 % of the leg")
+      ->capture_default_str();
+  app.add_option("--exact-contacts", options.exact_contacts,
+                 "Also hold the planted feet and every sole point above the floor as exact constraints (slower and jerkier; "
+                 "see README)")
       ->capture_default_str();
   app.add_option("--contact-height", options.contact.height,
                  "A source foot is planted below this height (m, capture units) above the capture's ground (estimated: "

@@ -9,11 +9,13 @@
 
 #include "common/configuration_space.h"
 #include "common/error.h"
+#include "common/foot_sliding.h"
 #include "common/markers_file.h"
 #include "stages/retarget/contact_forces.h"
 #include "stages/retarget/foot_targets.h"
 #include "stages/retarget/frame_ik.h"
 #include "stages/retarget/landmarks.h"
+#include "stages/retarget/leg_reach.h"
 #include "stages/retarget/trajectory_refinement.h"
 #include "stages/retarget/velocity_estimation.h"
 
@@ -218,6 +220,28 @@ StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const Tracke
   Eigen::Vector3d left = Eigen::Vector3d::Zero(), a, b;
   for (const auto& [left_name, right_name] : {std::pair{"left_foot", "right_foot"}, {"left_elbow", "right_elbow"}}) {
     if (landmark_position(left_name, reference, &a) && landmark_position(right_name, reference, &b)) left += a - b;
+  }
+  // A frame chosen for its landmarks (no --reference-time) is usually mid-motion: mid-stride the
+  // feet's left-right vector is turned by the stride, up to 45° on a CMU walk, and the robot then walks
+  // crabwise. With a pelvis orientation, the subject's left is instead the pelvis-frame direction of
+  // those vectors averaged over the whole capture (the stride's swing cancels), at the reference frame.
+  const auto pelvis = std::find(landmarks.names.begin(), landmarks.names.end(), "pelvis");
+  if (options.reference_time < 0 && pelvis != landmarks.names.end()) {
+    const int64_t pelvis_index = pelvis - landmarks.names.begin();
+    Eigen::Vector3d mean_left = Eigen::Vector3d::Zero();
+    for (int64_t t = 0; t < landmarks.frames; ++t) {
+      const LandmarkSample pelvis_sample = SampleAt(landmarks, t, pelvis_index);
+      if (!pelvis_sample.valid || !pelvis_sample.has_orientation) continue;
+      for (const auto& [left_name, right_name] : {std::pair{"left_foot", "right_foot"}, {"left_elbow", "right_elbow"}}) {
+        if (landmark_position(left_name, t, &a) && landmark_position(right_name, t, &b) && (a - b).norm() > 1e-6) {
+          mean_left += pelvis_sample.orientation.conjugate() * (a - b).normalized();
+        }
+      }
+    }
+    const LandmarkSample at_reference = SampleAt(landmarks, reference, pelvis_index);
+    if (mean_left.norm() > 1e-6 && at_reference.valid && at_reference.has_orientation) {
+      left = at_reference.orientation * mean_left.normalized();
+    }
   }
   alignment.heading = HeadingAlignment(left, &alignment.heading_rad);
   for (size_t i = 0; i < tasks.size(); ++i) {
@@ -465,7 +489,8 @@ void SolveFrames(const TrackedTasks& tasks, const Eigen::VectorXd& q_ref, const 
       // own result until it settles, or the next frames would finish the journey as a jump. Its feet are
       // planted only once it has settled, where they then are.
       const bool first = !std::isfinite(last_solved_time);
-      FrameIkSummary solved = ik.solve(targets, q, step_time, first ? nullptr : &feet_now);
+      std::vector<FootState>* constrained = feet_now.empty() ? nullptr : &feet_now;  // --exact-contacts
+      FrameIkSummary solved = ik.solve(targets, q, step_time, first ? nullptr : constrained);
       report.mean_ik_iterations += solved.iterations;
       for (int again = 0; first && again < 10; ++again) {
         ik.forgetHistory();
@@ -476,7 +501,7 @@ void SolveFrames(const TrackedTasks& tasks, const Eigen::VectorXd& q_ref, const 
       }
       if (first) {
         ik.forgetHistory();
-        solved = ik.solve(targets, q, 0.0, &feet_now);
+        solved = ik.solve(targets, q, 0.0, constrained);
         ik.forgetHistory();
       }
       last_solved_time = motion.time_s[static_cast<size_t>(t)];
@@ -549,27 +574,70 @@ void ProjectOntoContacts(FrameIk& ik, const Model& model, const std::vector<Foot
   }
 }
 
-// What a user checks on the final motion: per contact phase the stance foot's drift from its touchdown
-// position; the deepest sole point; the frames worst tracked.
+// One foot's sole in a pose: the centre of its sole points and the lowest one's height.
+FootSample SoleSample(const IkFoot& foot, const Eigen::Isometry3d& pose) {
+  FootSample sample;
+  sample.lowest_z = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& point : foot.sole_points) {
+    const Eigen::Vector3d world = pose * point;
+    sample.x += world.x() / static_cast<double>(foot.sole_points.size());
+    sample.y += world.y() / static_cast<double>(foot.sole_points.size());
+    sample.lowest_z = std::min(sample.lowest_z, world.z());
+  }
+  return sample;
+}
+
+// GMD's foot-skating ratio (common/foot_sliding.h) of per-foot sole samples on the motion's frames.
+double SkatingRatio(const std::vector<std::vector<FootSample>>& feet, const std::vector<double>& time_s) {
+  if (feet.empty() || time_s.size() < 2) return 0.0;
+  const double dt = (time_s.back() - time_s.front()) / static_cast<double>(time_s.size() - 1);
+  FootSlidingOptions skating;
+  skating.penetration = std::numeric_limits<double>::infinity();  // the skating measure alone
+  const std::vector<uint8_t> flags = FindSlidingFrames(feet, dt, skating);
+  return static_cast<double>(std::count(flags.begin(), flags.end(), 1)) / static_cast<double>(flags.size());
+}
+
+// What a user checks on the final motion, from the robot's sole points: per contact phase the sole
+// centre's largest horizontal distance from where the phase began (drift); the deepest sole point and
+// the share of frames with one more than 1 cm below the floor; GMD's foot-skating ratio of the robot
+// beside the same measure on the source's foot targets (the capture scaled to the robot, with the
+// robot's soles, heights from the level they are planted at); the frames worst tracked.
 void MeasureContacts(FrameIk& ik, const Model& model, Workspace& workspace, const FootContacts& contacts,
-                     const TrackedTasks& tasks, const MotionData& motion, RetargetSummary& report) {
-  const int64_t nq = model.nq();
+                     const TrackedTasks& tasks, const std::vector<int>& foot_tasks, const MotionData& motion,
+                     RetargetSummary& report) {
+  const int64_t nq = model.nq(), frames = motion.frames();
   const std::vector<IkFoot>& feet = ik.feet();
+  const size_t task_count = tasks.size();
+  std::vector<std::vector<FootSample>> robot(feet.size()), source(feet.size());
   Eigen::VectorXd q(nq);
-  auto frame_q = [&](int64_t t) -> const Eigen::VectorXd& {
+  int64_t penetrating = 0;
+  for (int64_t t = 0; t < frames; ++t) {
     q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
-    return q;
-  };
+    workspace.setQ(q);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (size_t f = 0; f < feet.size(); ++f) {
+      robot[f].push_back(SoleSample(feet[f], workspace.findLinkPose(feet[f].link)));
+      lowest = std::min(lowest, robot[f].back().lowest_z);
+      const int task = f < foot_tasks.size() ? foot_tasks[f] : -1;
+      if (task < 0) continue;
+      const double* target = &motion.landmark_targets[(static_cast<size_t>(t) * task_count + static_cast<size_t>(task)) * 7];
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      if (std::isfinite(target[0])) pose.translation() = Eigen::Vector3d(target[0], target[1], target[2]);
+      if (std::isfinite(target[3])) pose.linear() = Eigen::Quaterniond(target[3], target[4], target[5], target[6]).normalized().toRotationMatrix();
+      source[f].push_back(std::isfinite(target[0]) ? SoleSample(feet[f], pose) : source[f].empty() ? FootSample{} : source[f].back());
+    }
+    if (lowest < -0.01) ++penetrating;
+    if (-lowest > report.deepest_penetration) report.deepest_penetration = -lowest, report.deepest_frame = t;
+  }
+  report.penetrating_fraction = frames ? static_cast<double>(penetrating) / static_cast<double>(frames) : 0.0;
   for (int f = 0; f < contacts.feet; ++f) report.contact_frames.push_back(contacts.framesInContact(f));
   report.contact_phases = contacts.phases;
   for (const ContactPhase& phase : contacts.phases) {
-    const int link = feet[static_cast<size_t>(phase.foot)].link;
-    workspace.setQ(frame_q(phase.begin));
-    const Eigen::Vector3d start = workspace.findLinkPose(link).translation();
+    const std::vector<FootSample>& sole = robot[static_cast<size_t>(phase.foot)];
+    const FootSample& start = sole[static_cast<size_t>(phase.begin)];
     double drift = 0;
     for (int64_t t = phase.begin + 1; t < phase.end; ++t) {
-      workspace.setQ(frame_q(t));
-      drift = std::max(drift, (workspace.findLinkPose(link).translation() - start).head<2>().norm());
+      drift = std::max(drift, std::hypot(sole[static_cast<size_t>(t)].x - start.x, sole[static_cast<size_t>(t)].y - start.y));
     }
     report.phase_drift.push_back(drift);
   }
@@ -578,14 +646,21 @@ void MeasureContacts(FrameIk& ik, const Model& model, Workspace& workspace, cons
     report.p95_drift = Percentile(report.phase_drift, 0.95);
     report.max_drift = *std::max_element(report.phase_drift.begin(), report.phase_drift.end());
   }
-  if (!feet.empty()) {
-    for (int64_t t = 0; t < motion.frames(); ++t) {
-      const double depth = -ik.lowestSolePoint(frame_q(t));
-      if (depth > report.deepest_penetration) report.deepest_penetration = depth, report.deepest_frame = t;
+  report.foot_skating = SkatingRatio(robot, motion.time_s);
+  // The source's sole heights from the level its planted frames sit at (the capture's floor, scaled).
+  std::vector<double> planted_levels;
+  for (size_t f = 0; f < source.size(); ++f) {
+    for (size_t t = 0; t < source[f].size(); ++t) {
+      if (contacts.at(static_cast<int64_t>(t), static_cast<int>(f))) planted_levels.push_back(source[f][t].lowest_z);
     }
   }
+  const double level = planted_levels.empty() ? 0.0 : Percentile(planted_levels, 0.5);
+  for (std::vector<FootSample>& foot : source) {
+    for (FootSample& sample : foot) sample.lowest_z -= level;
+  }
+  source.erase(std::remove_if(source.begin(), source.end(), [](const auto& foot) { return foot.empty(); }), source.end());
+  report.source_foot_skating = SkatingRatio(source, motion.time_s);
   // The five frames with the largest priority-1 position error.
-  const size_t task_count = tasks.size();
   std::vector<std::pair<int64_t, double>> worst;
   for (int64_t t = 0; t < motion.frames(); ++t) {
     double error = 0;
@@ -720,7 +795,7 @@ nlohmann::json RetargetOptions::ToJson() const {
   if (scale > 0) scale_json = scale;
   return {{"floating_base", FloatingBaseChoiceName(floating_base)}, {"reference_time", reference_time},
           {"scale", scale_json}, {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale},
-          {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance}, {"contacts", contacts},
+          {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance}, {"contacts", contacts}, {"exact_contacts", exact_contacts}, {"leg_reach", leg_reach},
           {"contact_height", contact.height}, {"contact_speed", contact.speed}, {"contact_release", contact.release},
           {"contact_min_duration", contact.min_duration}, {"contact_blend", contact_blend}, {"contact_approach", contact_approach}, {"chain_proportions", chain_proportions}};
 }
@@ -742,7 +817,10 @@ std::string RetargetSummary::BriefReport() const {
         << p95_drift * 1000 << "/" << max_drift * 1000 << " mm, deepest sole point " << deepest_penetration * 1000
         << " mm below the floor";
     if (deepest_frame >= 0) out << " (frame " << deepest_frame << ")";
-    out << ", " << constraint_violations << " frames with unmet contact constraints";
+    out << ", " << penetrating_fraction * 100 << " % of frames more than 1 cm below; foot skating " << foot_skating
+        << " (source " << source_foot_skating << "); upper body lowered into the legs' reach in " << lowered_frames
+        << " frames (at most " << largest_drop * 1000 << " mm), a foot target out of reach in " << unreachable_frames << " frames";
+    if (constraint_violations > 0) out << ", " << constraint_violations << " frames with unmet exact contact constraints";
     if (std::isfinite(median_unexplained_force)) {
       out << "; base residual no contact explains: median " << median_unexplained_force << " N, "
           << median_unexplained_torque << " N m";
@@ -812,7 +890,9 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
     ik.restrictLower(static_cast<int>(std::find(coordinate_names.begin(), coordinate_names.end(), joint) - coordinate_names.begin()), value);
   }
   const FootContacts contacts = SourceContacts(map, landmarks, inputs.capture.time_s, options, report.notes);
-  const size_t feet = options.contacts ? map.feet.size() : 0;
+  // Exact contact constraints in the IK and the refinement (--exact-contacts), or none: the shaped
+  // targets alone (the default; see RetargetOptions::exact_contacts for what each costs).
+  const size_t feet = options.contacts && options.exact_contacts ? map.feet.size() : 0;
 
   MotionData motion = EmptyMotion(model, inputs.capture, landmarks, tasks);
   std::vector<int64_t> bridged;
@@ -826,10 +906,21 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
     }
   }
   std::vector<std::vector<IkTarget>> frame_targets = source_targets;
-  if (feet) {
+  if (options.contacts) {
     FootTargetOptions shaping;
     shaping.approach = options.contact_approach;
-    ShapeFootTargets(ik.feet(), FootTasks(map, model, landmarks, tasks), contacts, motion.time_s, shaping, frame_targets);
+    const std::vector<int> foot_tasks = FootTasks(map, model, landmarks, tasks);
+    ShapeFootTargets(RobotFeet(map, model), foot_tasks, contacts, motion.time_s, shaping, frame_targets);
+    if (options.leg_reach && alignment.pelvis_task >= 0) {
+      workspace.setQ(q_ref);
+      const std::vector<Leg> legs =
+          FindLegs(model, workspace, tasks.ik[static_cast<size_t>(alignment.pelvis_task)].link, foot_tasks, tasks.ik);
+      const LegReachReport reach =
+          LowerUpperBodyWithinReach(legs, alignment.pelvis_task, contacts, motion.time_s, LegReachOptions{}, frame_targets);
+      report.lowered_frames = reach.lowered_frames;
+      report.largest_drop = reach.largest_drop;
+      report.unreachable_frames = reach.unreachable_frames;
+    }
   }
   std::vector<FootState> foot_states(static_cast<size_t>(frames) * feet);
   const auto start = std::chrono::steady_clock::now();
@@ -849,9 +940,11 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   for (const RobotFoot& foot : map.feet) motion.contact_feet.push_back(foot.side);
   motion.contact.assign(contacts.contact.begin(), contacts.contact.end());
   for (const RobotFoot& foot : map.feet) report.foot_sides.push_back(foot.side);
-  if (feet) MeasureContacts(ik, model, workspace, contacts, tasks, motion, report);
+  if (!ik.feet().empty()) {
+    MeasureContacts(ik, model, workspace, contacts, tasks, FootTasks(map, model, landmarks, tasks), motion, report);
+  }
   ComputeDynamics(model, workspace, motion);
-  if (feet) SplitBaseResidual(model, workspace, ik.feet(), motion, report);
+  if (!ik.feet().empty()) SplitBaseResidual(model, workspace, ik.feet(), motion, report);
   FindWorstJointStep(model, motion, report);
   report.frames = frames;
   return motion;
