@@ -120,6 +120,15 @@ int main(int argc, char** argv) {
                                                syn::DescribeInput(options.robot_map), syn::DescribeInput(options.markerset)});
     syn::IntermediateWriter writer(common.output, provenance);
     syn::WriteMotionData(writer, motion);
+    if (options.contacts && !summary.foot_sides.empty()) {
+      // The quality figures a user filters trials by (syn-release's quality table reads them).
+      writer.writeAttribute("", "stance_drift_median_mm", summary.median_drift * 1000);
+      writer.writeAttribute("", "stance_drift_p95_mm", summary.p95_drift * 1000);
+      writer.writeAttribute("", "deepest_penetration_mm", summary.deepest_penetration * 1000);
+      writer.writeAttribute("", "penetration_frames_ratio", summary.penetrating_fraction);
+      writer.writeAttribute("", "foot_skating", summary.foot_skating);
+      writer.writeAttribute("", "source_foot_skating", summary.source_foot_skating);
+    }
     writer.commit();
     std::cerr << "syn-retarget: " << input << " -> " << common.output << ": " << summary.BriefReport() << "\n";
     if (common.verbose) {

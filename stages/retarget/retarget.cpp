@@ -223,8 +223,8 @@ StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const Tracke
   }
   // A frame chosen for its landmarks (no --reference-time) is usually mid-motion: mid-stride the
   // feet's left-right vector is turned by the stride, up to 45° on a CMU walk, and the robot then walks
-  // crabwise. With a pelvis orientation, the subject's left is instead the pelvis-frame direction of
-  // those vectors averaged over the whole capture (the stride's swing cancels), at the reference frame.
+  // crabwise. With a pelvis orientation, the subject's left is instead the pelvis frame's axis nearest
+  // to those vectors averaged over the whole capture in the pelvis frame, at the reference frame.
   const auto pelvis = std::find(landmarks.names.begin(), landmarks.names.end(), "pelvis");
   if (options.reference_time < 0 && pelvis != landmarks.names.end()) {
     const int64_t pelvis_index = pelvis - landmarks.names.begin();
@@ -238,9 +238,15 @@ StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const Tracke
         }
       }
     }
+    // Snapped to the nearest axis of the pelvis frame (marker-set and BVH pelvis frames have one pointing
+    // left), so an asymmetric motion (a lunge, a turn) cannot bias it.
+    Eigen::Index axis = 0;
+    mean_left.cwiseAbs().maxCoeff(&axis);
+    Eigen::Vector3d pelvis_left = Eigen::Vector3d::Zero();
+    pelvis_left[axis] = mean_left[axis] > 0 ? 1.0 : -1.0;
     const LandmarkSample at_reference = SampleAt(landmarks, reference, pelvis_index);
     if (mean_left.norm() > 1e-6 && at_reference.valid && at_reference.has_orientation) {
-      left = at_reference.orientation * mean_left.normalized();
+      left = at_reference.orientation * pelvis_left;
     }
   }
   alignment.heading = HeadingAlignment(left, &alignment.heading_rad);

@@ -180,8 +180,8 @@ void InverseDynamicsG1(benchmark::State& state) {
 }
 
 // The whole stage on real captures (CMU 02_01 walk, 94_07 dance) onto the G1: loading, landmarks, contact
-// detection, IK, refinement, contact projection and inverse dynamics, with the contact constraints off
-// (argument 0, the stage before issue 17 in all but its knee posture target) and on (argument 1).
+// detection, IK, refinement and inverse dynamics: argument 0 without contacts (--contacts false), 1 with the
+// default contact handling (shaped foot targets, leg reach), 2 with --exact-contacts as well.
 void WholeStageRealDataG1(benchmark::State& state) {
   const std::string shared = SYN_SHARED_DATASETS;
   const std::vector<std::string> trials = {"02/02_01.bvh", "94/94_07.bvh"};
@@ -205,6 +205,7 @@ void WholeStageRealDataG1(benchmark::State& state) {
   options.robot_map = std::string(SYN_SOURCE_DIR) + "/manifests/robots/g1.toml";
   options.markerset = std::string(SYN_SOURCE_DIR) + "/manifests/markersets/cmu-bvh.toml";
   options.contacts = state.range(0) != 0;
+  options.exact_contacts = state.range(0) == 2;
   int64_t frames = 0;
   for (auto _ : state) {
     for (const std::string& path : markers) {
@@ -217,7 +218,7 @@ void WholeStageRealDataG1(benchmark::State& state) {
   state.counters["frames_per_second"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
 }
 
-BENCHMARK(WholeStageRealDataG1)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(WholeStageRealDataG1)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(FrameIkG1)->Unit(benchmark::kMillisecond);
 BENCHMARK(AssemblerG1)->Unit(benchmark::kMillisecond);
 BENCHMARK(RefinementG1)->Unit(benchmark::kMillisecond);
