@@ -204,6 +204,34 @@ StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const Tracke
   for (const auto& [left_name, right_name] : {std::pair{"left_foot", "right_foot"}, {"left_elbow", "right_elbow"}}) {
     if (landmark_position(left_name, reference, &a) && landmark_position(right_name, reference, &b)) left += a - b;
   }
+  // A frame chosen for its landmarks (no --reference-time) is usually mid-motion: mid-stride the
+  // feet's left-right vector is turned by the stride, up to 45° on a CMU walk, and the robot then walks
+  // crabwise. With a pelvis orientation, the subject's left is instead the pelvis frame's axis nearest
+  // to those vectors averaged over the whole capture in the pelvis frame, at the reference frame.
+  const auto pelvis = std::find(landmarks.names.begin(), landmarks.names.end(), "pelvis");
+  if (options.reference_time < 0 && pelvis != landmarks.names.end()) {
+    const int64_t pelvis_index = pelvis - landmarks.names.begin();
+    Eigen::Vector3d mean_left = Eigen::Vector3d::Zero();
+    for (int64_t t = 0; t < landmarks.frames; ++t) {
+      const LandmarkSample pelvis_sample = SampleAt(landmarks, t, pelvis_index);
+      if (!pelvis_sample.valid || !pelvis_sample.has_orientation) continue;
+      for (const auto& [left_name, right_name] : {std::pair{"left_foot", "right_foot"}, {"left_elbow", "right_elbow"}}) {
+        if (landmark_position(left_name, t, &a) && landmark_position(right_name, t, &b) && (a - b).norm() > 1e-6) {
+          mean_left += pelvis_sample.orientation.conjugate() * (a - b).normalized();
+        }
+      }
+    }
+    // Snapped to the nearest axis of the pelvis frame (marker-set and BVH pelvis frames have one pointing
+    // left), so an asymmetric motion (a lunge, a turn) cannot bias it.
+    Eigen::Index axis = 0;
+    mean_left.cwiseAbs().maxCoeff(&axis);
+    Eigen::Vector3d pelvis_left = Eigen::Vector3d::Zero();
+    pelvis_left[axis] = mean_left[axis] > 0 ? 1.0 : -1.0;
+    const LandmarkSample at_reference = SampleAt(landmarks, reference, pelvis_index);
+    if (mean_left.norm() > 1e-6 && at_reference.valid && at_reference.has_orientation) {
+      left = at_reference.orientation * pelvis_left;
+    }
+  }
   alignment.heading = HeadingAlignment(left, &alignment.heading_rad);
   if (options.scale > 0) {
     alignment.scale = options.scale;
