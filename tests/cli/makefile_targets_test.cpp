@@ -36,9 +36,10 @@ class MakefileTargets : public ::testing::Test {
     fs::permissions(path, fs::perms::owner_all | fs::perms::group_read | fs::perms::others_read);
   }
   CommandResult make(const std::string& arguments) {
-    // Without the calling make's MAKEFLAGS: run under `make sanitize-test`, they carry its CMAKE_FLAGS=... into
-    // this make as a command-line override.
-    return RunCommand("env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL PATH=" + dir_ + "/fakebin:$PATH make --no-print-directory -C " +
+    // Without what the calling make passes down: run under `make sanitize-test`, its MAKEFLAGS carry
+    // CMAKE_FLAGS=... as a command-line override, and make also exports its command-line variables
+    // (CMAKE_FLAGS, BUILD_TYPE, BUILD_DIR) into the environment of every recipe, this test included.
+    return RunCommand("env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL -u CMAKE_FLAGS -u BUILD_TYPE -u BUILD_DIR -u JOBS PATH=" + dir_ + "/fakebin:$PATH make --no-print-directory -C " +
                       std::string(SYN_SOURCE_DIR) + " " + arguments);
   }
   std::string cmakeLog() {
