@@ -20,6 +20,15 @@ void WriteMotionData(IntermediateWriter& writer, const MotionData& motion) {
     writer.writeDoubles("landmark_targets", {frames, landmarks, 7}, motion.landmark_targets.data());
     writer.writeDoubles("landmark_error", {frames, landmarks, 2}, motion.landmark_error.data());
   }
+  if (!motion.contact_feet.empty()) {
+    writer.writeStrings("contact_feet", motion.contact_feet);
+    writer.writeInts("contact", {frames, static_cast<int64_t>(motion.contact_feet.size())}, motion.contact.data());
+    if (!motion.contact_force.empty()) {
+      writer.writeDoubles("contact_force", {frames, static_cast<int64_t>(motion.contact_feet.size()), 3},
+                          motion.contact_force.data());
+      writer.writeDoubles("unexplained_wrench", {frames, 6}, motion.unexplained_wrench.data());
+    }
+  }
   writer.writeAttribute("", "model_name", motion.model_name);
   writer.writeAttribute("", "model_sha256", motion.model_sha256);
   writer.writeAttribute("", "total_mass", motion.total_mass);
@@ -47,6 +56,24 @@ MotionData ReadMotionFile(const std::string& path) {
     motion.landmark_names = reader.readStrings("landmark_names");
     motion.landmark_targets = reader.readDoubles("landmark_targets").values;
     motion.landmark_error = reader.readDoubles("landmark_error").values;
+  }
+  if (reader.has("contact_feet")) {
+    motion.contact_feet = reader.readStrings("contact_feet");
+    motion.contact = reader.readInts("contact");
+    if (motion.contact.size() != static_cast<size_t>(motion.frames()) * motion.contact_feet.size()) {
+      throw DataError(Location::InFile(path), "dataset 'contact' should be [" + std::to_string(motion.frames()) + ", " +
+                                                  std::to_string(motion.contact_feet.size()) + "]");
+    }
+    if (reader.has("contact_force")) {
+      motion.contact_force = reader.readDoubles("contact_force").values;
+      motion.unexplained_wrench = reader.readDoubles("unexplained_wrench").values;
+      if (motion.contact_force.size() != static_cast<size_t>(motion.frames()) * motion.contact_feet.size() * 3 ||
+          motion.unexplained_wrench.size() != static_cast<size_t>(motion.frames()) * 6) {
+        throw DataError(Location::InFile(path), "datasets 'contact_force' and 'unexplained_wrench' should be [" +
+                                                    std::to_string(motion.frames()) + ", feet, 3] and [" +
+                                                    std::to_string(motion.frames()) + ", 6]");
+      }
+    }
   }
   motion.model_name = reader.readStringAttribute("", "model_name");
   motion.model_sha256 = reader.readStringAttribute("", "model_sha256");

@@ -6,7 +6,11 @@
 // a free base's six entries are the residual wrench), coordinate_names[nq],
 // velocity_names[nu]; when the motion was retargeted: landmark_names[L],
 // landmark_targets[T,L,7] (position m, quaternion w,x,y,z; NaN = no target)
-// and landmark_error[T,L,2] (position m, angle rad). Root attributes:
+// and landmark_error[T,L,2] (position m, angle rad); optional (readers accept files without them):
+// contact_feet[F] (foot sides) and contact[T,F] (1 = the source's foot is planted, syn-retarget's
+// contact detection); with a free base, contact_force[T,F,3] (N, ground frame: each foot's share of
+// the base's residual wrench that admissible contact forces explain) and unexplained_wrench[T,6] (the
+// rest: moment about the pelvis origin N·m, then force N). Root attributes:
 // model_name, model_sha256, total_mass (kg).
 #pragma once
 
@@ -33,6 +37,11 @@ struct MotionData {
   std::vector<std::string> landmark_names;    // [L], may be empty
   std::vector<double> landmark_targets;       // [T, L, 7]
   std::vector<double> landmark_error;         // [T, L, 2]
+
+  std::vector<std::string> contact_feet;      // [F], may be empty
+  std::vector<int64_t> contact;               // [T, F]: 1 = planted
+  std::vector<double> contact_force;          // [T, F, 3], may be empty
+  std::vector<double> unexplained_wrench;     // [T, 6], may be empty
 
   std::string model_name;
   std::string model_sha256;

@@ -7,7 +7,7 @@
 //   power_k = Σ_actuated |τ_i u_i| / total mass  (W/kg; τ by inverse dynamics from the resampled q, u, u̇,
 //             so a reconstruction without stored torques is measured exactly like the original; the free
 //             base's residual wrench and a virtual base chain are excluded)
-//   foot sliding: stages/evaluate/foot_sliding.h
+//   foot sliding: common/foot_sliding.h
 //
 // The grid is absolute (origin + k / rate), so a segment evaluated on its own
 // sees the same instants as inside its whole trial.
@@ -21,7 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/model.h"
-#include "stages/evaluate/foot_sliding.h"
+#include "common/foot_sliding.h"
 
 namespace syn {
 

@@ -59,6 +59,21 @@ int main(int argc, char** argv) {
   app.add_option("--ik-function-tolerance", options.ik_function_tolerance,
                  "Per-frame IK: stop when an iteration changes the cost by less than this fraction")
       ->capture_default_str();
+  app.add_option("--contact-height", options.contact.height,
+                 "Contact detection (reported, not yet enforced): a source foot is planted below this height (m, capture "
+                 "units) above the capture's ground (a low percentile of the foot landmarks' heights); 0.05 = GMD's "
+                 "foot-skating contact height")
+      ->capture_default_str();
+  app.add_option("--contact-speed", options.contact.speed,
+                 "... and slower than this horizontal speed (m/s); default 0.5/1.5, so a contact ends by --contact-release "
+                 "at GMD's sliding speed 0.5 m/s")
+      ->capture_default_str();
+  app.add_option("--contact-release", options.contact.release,
+                 "Hysteresis: a contact ends only above height and speed times this (>= 1)")
+      ->capture_default_str();
+  app.add_option("--contact-min-duration", options.contact.min_duration,
+                 "Contact phases shorter than this (s) are dropped (0.1 s: the shortest human stance, sprinting)")
+      ->capture_default_str();
   app.add_option("--max-bridge", options.max_bridge,
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")
       ->capture_default_str();
@@ -81,7 +96,27 @@ int main(int argc, char** argv) {
                                                syn::DescribeInput(options.robot_map), syn::DescribeInput(options.markerset)});
     syn::IntermediateWriter writer(common.output, provenance);
     syn::WriteMotionData(writer, motion);
+    if (!summary.foot_sides.empty()) {
+      // The quality figures a user filters trials by (syn-release's quality table reads them).
+      writer.writeAttribute("", "stance_drift_median_mm", summary.median_drift * 1000);
+      writer.writeAttribute("", "stance_drift_p95_mm", summary.p95_drift * 1000);
+      writer.writeAttribute("", "deepest_penetration_mm", summary.deepest_penetration * 1000);
+      writer.writeAttribute("", "penetration_frames_ratio", summary.penetrating_fraction);
+      writer.writeAttribute("", "foot_skating", summary.foot_skating);
+      writer.writeAttribute("", "source_foot_skating", summary.source_foot_skating);
+    }
     writer.commit();
     std::cerr << "syn-retarget: " << input << " -> " << common.output << ": " << summary.BriefReport() << "\n";
+    if (common.verbose) {
+      for (size_t i = 0; i < summary.contact_phases.size() && i < summary.phase_drift.size(); ++i) {
+        const syn::ContactPhase& phase = summary.contact_phases[i];
+        std::cerr << "syn-retarget: contact " << summary.foot_sides[static_cast<size_t>(phase.foot)] << " frames "
+                  << phase.begin << "-" << phase.end - 1 << ": stance drift " << summary.phase_drift[i] * 1000 << " mm\n";
+      }
+      if (summary.deepest_frame >= 0) {
+        std::cerr << "syn-retarget: deepest sole point " << summary.deepest_penetration * 1000 << " mm below the floor at frame "
+                  << summary.deepest_frame << "\n";
+      }
+    }
   });
 }

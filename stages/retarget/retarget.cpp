@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <Eigen/Geometry>
 
 #include "common/configuration_space.h"
 #include "common/error.h"
+#include "common/foot_sliding.h"
 #include "common/markers_file.h"
 #include "stages/retarget/frame_ik.h"
 #include "stages/retarget/landmarks.h"
@@ -382,6 +384,130 @@ void FindWorstJointStep(const Model& model, const MotionData& motion, RetargetSu
   }
 }
 
+// The source's foot contacts, one column per robot foot (its side's "<side>_foot" landmark; a side the
+// marker set has no foot landmark for is never in contact).
+FootContacts SourceContacts(const RobotMap& map, const LandmarkTrajectories& landmarks, const std::vector<double>& time_s,
+                            const RetargetOptions& options, std::vector<std::string>& notes) {
+  std::vector<std::vector<Eigen::Vector3d>> positions(map.feet.size());
+  for (size_t f = 0; f < map.feet.size(); ++f) {
+    const std::string name = map.feet[f].side + "_foot";
+    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), name);
+    positions[f].assign(static_cast<size_t>(landmarks.frames), Eigen::Vector3d::Constant(std::nan("")));
+    if (found == landmarks.names.end()) {
+      notes.push_back("marker set has no " + name + " landmark: that foot is never in contact");
+      continue;
+    }
+    for (int64_t t = 0; t < landmarks.frames; ++t) {
+      positions[f][static_cast<size_t>(t)] = SampleAt(landmarks, t, found - landmarks.names.begin()).position;
+    }
+  }
+  return DetectContacts(positions, time_s, options.contact);
+}
+
+// The task tracking each robot foot's link with its side's "<side>_foot" landmark (-1: none).
+std::vector<int> FootTasks(const RobotMap& map, const Model& model, const LandmarkTrajectories& landmarks,
+                           const TrackedTasks& tasks) {
+  std::vector<int> foot_task(map.feet.size(), -1);
+  for (size_t f = 0; f < map.feet.size(); ++f) {
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      if (landmarks.names[static_cast<size_t>(tasks.landmark[i])] == map.feet[f].side + "_foot" &&
+          tasks.ik[i].link == model.findLinkIndex(map.feet[f].link)) {
+        foot_task[f] = static_cast<int>(i);
+      }
+    }
+  }
+  return foot_task;
+}
+
+// One foot's sole in a pose: the centre of its sole points and the lowest one's height.
+FootSample SoleSample(const RobotFoot& foot, const Eigen::Isometry3d& pose) {
+  FootSample sample;
+  sample.lowest_z = std::numeric_limits<double>::infinity();
+  for (const auto& point : foot.sole_points) {
+    const Eigen::Vector3d world = pose * Eigen::Vector3d(point[0], point[1], point[2]);
+    sample.x += world.x() / static_cast<double>(foot.sole_points.size());
+    sample.y += world.y() / static_cast<double>(foot.sole_points.size());
+    sample.lowest_z = std::min(sample.lowest_z, world.z());
+  }
+  return sample;
+}
+
+// GMD's foot-skating ratio (common/foot_sliding.h) of per-foot sole samples on the motion's frames.
+double SkatingRatio(const std::vector<std::vector<FootSample>>& feet, const std::vector<double>& time_s) {
+  if (feet.empty() || time_s.size() < 2) return 0.0;
+  const double dt = (time_s.back() - time_s.front()) / static_cast<double>(time_s.size() - 1);
+  FootSlidingOptions skating;
+  skating.penetration = std::numeric_limits<double>::infinity();  // the skating measure alone
+  const std::vector<uint8_t> flags = FindSlidingFrames(feet, dt, skating);
+  return static_cast<double>(std::count(flags.begin(), flags.end(), 1)) / static_cast<double>(flags.size());
+}
+
+// What a user checks on the final motion, from the robot map's sole points: per source contact phase the
+// sole centre's largest horizontal distance from where the phase began (drift); the deepest sole point and
+// the share of frames with one more than 1 cm below the floor; GMD's foot-skating ratio of the robot beside
+// the same measure on the source's foot targets (the capture scaled to the robot, with the robot's soles,
+// heights from the level the source's planted frames sit at).
+void MeasureContacts(const Model& model, Workspace& workspace, const RobotMap& map, const FootContacts& contacts,
+                     const std::vector<int>& foot_tasks, const MotionData& motion, RetargetSummary& report) {
+  const int64_t nq = model.nq(), frames = motion.frames();
+  const size_t feet = map.feet.size(), task_count = motion.landmark_names.size();
+  std::vector<int> links;
+  for (const RobotFoot& foot : map.feet) links.push_back(model.findLinkIndex(foot.link));
+  std::vector<std::vector<FootSample>> robot(feet), source(feet);
+  Eigen::VectorXd q(nq);
+  int64_t penetrating = 0;
+  for (int64_t t = 0; t < frames; ++t) {
+    q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
+    workspace.setQ(q);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (size_t f = 0; f < feet; ++f) {
+      robot[f].push_back(SoleSample(map.feet[f], workspace.findLinkPose(links[f])));
+      lowest = std::min(lowest, robot[f].back().lowest_z);
+      if (foot_tasks[f] < 0) continue;
+      const double* target = &motion.landmark_targets[(static_cast<size_t>(t) * task_count + static_cast<size_t>(foot_tasks[f])) * 7];
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      if (std::isfinite(target[0])) pose.translation() = Eigen::Vector3d(target[0], target[1], target[2]);
+      if (std::isfinite(target[3])) {
+        pose.linear() = Eigen::Quaterniond(target[3], target[4], target[5], target[6]).normalized().toRotationMatrix();
+      }
+      const bool valid = std::isfinite(target[0]);
+      source[f].push_back(valid ? SoleSample(map.feet[f], pose) : source[f].empty() ? FootSample{} : source[f].back());
+    }
+    if (lowest < -0.01) ++penetrating;
+    if (-lowest > report.deepest_penetration) report.deepest_penetration = -lowest, report.deepest_frame = t;
+  }
+  report.penetrating_fraction = frames ? static_cast<double>(penetrating) / static_cast<double>(frames) : 0.0;
+  for (int f = 0; f < contacts.feet; ++f) report.contact_frames.push_back(contacts.framesInContact(f));
+  report.contact_phases = contacts.phases;
+  for (const ContactPhase& phase : contacts.phases) {
+    const std::vector<FootSample>& sole = robot[static_cast<size_t>(phase.foot)];
+    const FootSample& start = sole[static_cast<size_t>(phase.begin)];
+    double drift = 0;
+    for (int64_t t = phase.begin + 1; t < phase.end; ++t) {
+      drift = std::max(drift, std::hypot(sole[static_cast<size_t>(t)].x - start.x, sole[static_cast<size_t>(t)].y - start.y));
+    }
+    report.phase_drift.push_back(drift);
+  }
+  if (!report.phase_drift.empty()) {
+    report.median_drift = Percentile(report.phase_drift, 0.5);
+    report.p95_drift = Percentile(report.phase_drift, 0.95);
+    report.max_drift = *std::max_element(report.phase_drift.begin(), report.phase_drift.end());
+  }
+  report.foot_skating = SkatingRatio(robot, motion.time_s);
+  std::vector<double> planted_levels;
+  for (size_t f = 0; f < source.size(); ++f) {
+    for (size_t t = 0; t < source[f].size(); ++t) {
+      if (contacts.at(static_cast<int64_t>(t), static_cast<int>(f))) planted_levels.push_back(source[f][t].lowest_z);
+    }
+  }
+  const double level = planted_levels.empty() ? 0.0 : Percentile(planted_levels, 0.5);
+  for (std::vector<FootSample>& foot : source) {
+    for (FootSample& sample : foot) sample.lowest_z -= level;
+  }
+  source.erase(std::remove_if(source.begin(), source.end(), [](const auto& foot) { return foot.empty(); }), source.end());
+  report.source_foot_skating = SkatingRatio(source, motion.time_s);
+}
+
 }  // namespace
 
 const char* FloatingBaseChoiceName(FloatingBaseChoice choice) {
@@ -419,7 +545,7 @@ bool RetargetOptions::IsValid(std::string* error) const {
   if (max_bridge < 0) return fail("--max-bridge must be >= 0");
   if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
   if (!(ik_function_tolerance > 0 && ik_function_tolerance < 1)) return fail("--ik-function-tolerance must be in (0, 1)");
-  return true;
+  return contact.IsValid(error);
 }
 
 nlohmann::json RetargetOptions::ToJson() const {
@@ -427,7 +553,9 @@ nlohmann::json RetargetOptions::ToJson() const {
   if (scale > 0) scale_json = scale;
   return {{"floating_base", FloatingBaseChoiceName(floating_base)}, {"reference_time", reference_time},
           {"scale", scale_json}, {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale},
-          {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance}};
+          {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance},
+          {"contact_height", contact.height}, {"contact_speed", contact.speed}, {"contact_release", contact.release},
+          {"contact_min_duration", contact.min_duration}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -439,6 +567,14 @@ std::string RetargetSummary::BriefReport() const {
       << "P2 " << median_position_error[1] * 1000 << "/" << p95_position_error[1] * 1000 << " mm "
       << median_angle_error[1] * 180 / M_PI << "/" << p95_angle_error[1] * 180 / M_PI << " deg; worst joint step "
       << worst_joint_step << " rad (" << worst_joint_step_name << "); IK " << ik_seconds << " s, " << mean_ik_iterations << " iterations/frame; refinement " << refinement_seconds << " s";
+  if (!foot_sides.empty()) {
+    out << "; source contact frames";
+    for (size_t f = 0; f < foot_sides.size() && f < contact_frames.size(); ++f) out << " " << foot_sides[f] << " " << contact_frames[f];
+    out << ", " << contact_phases.size() << " phases, stance drift median/p95/max " << median_drift * 1000 << "/"
+        << p95_drift * 1000 << "/" << max_drift * 1000 << " mm; deepest sole point " << deepest_penetration * 1000
+        << " mm below the floor, " << penetrating_fraction * 100 << " % of frames more than 1 cm below; foot skating "
+        << foot_skating << " (source " << source_foot_skating << ")";
+  }
   return out.str();
 }
 
@@ -508,6 +644,12 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   report.refinement_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - refine_start).count();
 
   MeasureLandmarkErrors(ik, tasks, frame_targets, model.nq(), motion, report);
+  if (!map.feet.empty()) {
+    const FootContacts contacts = SourceContacts(map, landmarks, inputs.capture.time_s, options, report.notes);
+    for (const RobotFoot& foot : map.feet) motion.contact_feet.push_back(foot.side), report.foot_sides.push_back(foot.side);
+    motion.contact.assign(contacts.contact.begin(), contacts.contact.end());
+    MeasureContacts(model, workspace, map, contacts, FootTasks(map, model, landmarks, tasks), motion, report);
+  }
   ComputeDynamics(model, workspace, motion);
   FindWorstJointStep(model, motion, report);
   report.frames = frames;

@@ -20,6 +20,7 @@
 #include "common/model.h"
 #include "common/motion_file.h"
 #include "common/robot_map.h"
+#include "stages/retarget/contact_detection.h"
 
 namespace syn {
 
@@ -56,6 +57,9 @@ struct RetargetOptions {
   // function_tolerance; frame_ik.h says why 1e-3: tighter values spent 5-10 more, mostly rejected,
   // iterations per frame on real captures for no change in their landmark errors).
   double ik_function_tolerance = 1e-3;
+  // The source's foot contacts (contact_detection.h: thresholds and their sources): stored in the motion
+  // and measured on the result (stance drift, penetration, foot skating). Not yet enforced (issue 17).
+  ContactDetectionOptions contact;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;
@@ -74,6 +78,17 @@ struct RetargetSummary {
   double refinement_seconds = 0.0;
   double mean_ik_iterations = 0.0;
   std::vector<std::string> notes;
+  // What a user checks, from the robot's sole points (the robot map's feet) on the final motion:
+  std::vector<std::string> foot_sides;         // the robot map's feet, in the contact columns' order
+  std::vector<int64_t> contact_frames;         // per foot, frames the source's foot is planted
+  std::vector<ContactPhase> contact_phases;    // the source's contact phases
+  std::vector<double> phase_drift;             // per phase, the sole centre's largest horizontal drift (m)
+  double median_drift = 0.0, p95_drift = 0.0, max_drift = 0.0;
+  double deepest_penetration = 0.0;            // m below z = 0 (0 when never below)
+  int64_t deepest_frame = -1;
+  double penetrating_fraction = 0.0;           // frames with a sole point more than 1 cm below the floor
+  double foot_skating = 0.0;                   // GMD foot-skating ratio of the robot's soles
+  double source_foot_skating = 0.0;            // the same on the source's foot targets with the robot's soles
 
   std::string BriefReport() const;
 };

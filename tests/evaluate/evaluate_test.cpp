@@ -8,7 +8,7 @@
 
 #include "common/model.h"
 #include "stages/evaluate/evaluate.h"
-#include "stages/evaluate/foot_sliding.h"
+#include "common/foot_sliding.h"
 #include "stages/evaluate/motion_metrics.h"
 #include "stages/evaluate/synergy_monte_carlo.h"
 #include "stages/segment/segmentation.h"

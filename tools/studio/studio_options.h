@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "stages/evaluate/foot_sliding.h"
+#include "common/foot_sliding.h"
 
 namespace syn {
 
@@ -28,7 +28,7 @@ struct StudioOptions {
   // syn-evaluate gives the saved script's motion. A 4 s motion's metrics cost ~9 ms of the 50 ms budget
   // (tests/bench/studio_benchmark.cpp); lower it for long motions on a slow machine.
   double eval_rate = 1000.0;  // Hz
-  FootSlidingOptions sliding;  // syn-evaluate's defaults (stages/evaluate/foot_sliding.h)
+  FootSlidingOptions sliding;  // syn-evaluate's defaults (common/foot_sliding.h)
   // Where the page (index.html, studio.js, studio.css) and three.js (npm, make report-npm) are read from.
   // Defaults: the source tree the binary was built from (tools/studio/web, tools/report/...).
   std::string web_root;

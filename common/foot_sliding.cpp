@@ -1,4 +1,4 @@
-#include "stages/evaluate/foot_sliding.h"
+#include "common/foot_sliding.h"
 
 #include <algorithm>
 #include <cmath>

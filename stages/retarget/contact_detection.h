@@ -1,0 +1,60 @@
+// Foot contacts of the source capture: per foot and frame, whether the
+// subject's foot is planted, from its landmark trajectory alone.
+//
+// A foot is planted while its landmark is low — within `height` of the
+// capture's ground, estimated from the data as a low percentile of both feet's
+// landmark heights (the level a planted foot's landmark sits at; captures put
+// their floor anywhere) — and slow — horizontal speed, over a centred window,
+// under `speed`. Hysteresis: a contact begins below (height, speed) and ends
+// only above (height, speed) × `release`, so noise at the threshold does not
+// toggle it; phases shorter than `min_duration` are dropped.
+//
+// Defaults (metres and seconds of the capture, before scaling to the robot):
+// 5 cm is the GMD foot-skating contact height (Karunratanakul et al. 2023,
+// common/foot_sliding.h), and a contact ends at 0.5 m/s, GMD's sliding
+// speed: a foot faster than that is sliding by definition, so it cannot be
+// planted. It begins at 0.5/1.5 = 0.33 m/s. 0.1 s is the shortest human
+// stance (sprinting ground contact lasts ~0.1 s).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace syn {
+
+struct ContactDetectionOptions {
+  double height = 0.05;          // m above the estimated ground, to begin a contact
+  double speed = 0.5 / 1.5;      // m/s horizontal, to begin a contact
+  double release = 1.5;          // a contact ends above height × release or speed × release
+  double min_duration = 0.1;     // s; shorter phases are dropped
+  double ground_percentile = 0.02;  // of both feet's landmark heights: the planted level
+  double speed_window = 0.05;    // s, centred window of the speed estimate
+
+  bool IsValid(std::string* error) const;
+};
+
+// One contact phase of one foot: frames [begin, end) .
+struct ContactPhase {
+  int foot = 0;
+  int64_t begin = 0, end = 0;
+};
+
+struct FootContacts {
+  int64_t frames = 0;
+  int feet = 0;
+  std::vector<uint8_t> contact;  // [T, feet]: 1 = planted
+  double ground = 0.0;           // m: the capture's estimated planted level
+  std::vector<ContactPhase> phases;  // sorted by foot, then begin
+
+  bool at(int64_t frame, int foot) const { return contact[static_cast<size_t>(frame * feet + foot)] != 0; }
+  int64_t framesInContact(int foot) const;
+};
+
+// foot_positions[f]: foot f's landmark positions per frame (NaN = missing: not in contact), z up.
+[[nodiscard]] FootContacts DetectContacts(const std::vector<std::vector<Eigen::Vector3d>>& foot_positions,
+                                          const std::vector<double>& time_s, const ContactDetectionOptions& options);
+
+}  // namespace syn

@@ -1,0 +1,126 @@
+// Source foot contacts (stages/retarget/contact_detection.h) on a synthetic gait with known stance
+// phases, and on a real CMU walk whose two feet must alternate.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "common/markers_file.h"
+#include "stages/ingest/ingest.h"
+#include "stages/retarget/contact_detection.h"
+#include "stages/retarget/landmarks.h"
+#include "common/marker_set.h"
+#include "tests/support/shared_data.h"
+
+namespace syn {
+namespace {
+
+constexpr double kRate = 120.0;
+
+// A foot that is planted (ankle 8 cm above a floor at z = -0.3, still) in [start, end) s of each
+// planted interval and swings otherwise (rising 15 cm, moving forward at 1.5 m/s).
+std::vector<Eigen::Vector3d> SyntheticFoot(const std::vector<std::pair<double, double>>& planted, double duration,
+                                           std::vector<uint8_t>* truth) {
+  std::vector<Eigen::Vector3d> foot;
+  double x = 0;
+  for (int k = 0; k < static_cast<int>(duration * kRate); ++k) {
+    const double t = k / kRate;
+    bool down = false;
+    double swing_start = 0, swing_end = duration;
+    for (size_t i = 0; i < planted.size(); ++i) {
+      if (t >= planted[i].first && t < planted[i].second) down = true;
+      if (planted[i].second <= t) swing_start = planted[i].second;
+      if (planted[i].first > t && planted[i].first < swing_end) swing_end = planted[i].first;
+    }
+    double z = -0.3 + 0.08;
+    if (!down) {
+      x += 1.5 / kRate;
+      z += 0.15 * std::sin(M_PI * (t - swing_start) / (swing_end - swing_start));
+    }
+    // 1 mm of deterministic sensor noise.
+    foot.emplace_back(x + 0.001 * std::sin(37.0 * k), 0.1 + 0.001 * std::cos(53.0 * k), z + 0.001 * std::sin(71.0 * k));
+    truth->push_back(down);
+  }
+  return foot;
+}
+
+TEST(ContactDetection, FindsTheStancePhasesOfASyntheticGait) {
+  const double duration = 3.0;
+  std::vector<uint8_t> left_truth, right_truth;
+  // The right foot's 0.05 s touch is shorter than the minimum duration: not a contact.
+  const std::vector<std::vector<Eigen::Vector3d>> feet = {
+      SyntheticFoot({{0.0, 0.6}, {1.0, 1.6}, {2.0, 2.6}}, duration, &left_truth),
+      SyntheticFoot({{0.4, 1.1}, {1.5, 1.55}, {1.9, 2.7}}, duration, &right_truth)};
+  std::vector<double> time;
+  for (size_t k = 0; k < feet[0].size(); ++k) time.push_back(static_cast<double>(k) / kRate);
+  const FootContacts contacts = DetectContacts(feet, time, {});
+  EXPECT_NEAR(contacts.ground, -0.3 + 0.08, 0.002);
+  ASSERT_EQ(contacts.phases.size(), 5u);
+  for (int f = 0; f < 2; ++f) {
+    const std::vector<uint8_t>& truth = f == 0 ? left_truth : right_truth;
+    int disagreements = 0;
+    for (int64_t t = 0; t < contacts.frames; ++t) {
+      const bool expected = truth[static_cast<size_t>(t)] && !(f == 1 && time[static_cast<size_t>(t)] >= 1.5 && time[static_cast<size_t>(t)] < 1.55);
+      if (contacts.at(t, f) != expected) ++disagreements;
+    }
+    // The speed window (0.05 s) blurs each edge by a few frames; nothing else may differ.
+    EXPECT_LE(disagreements, 6 * 4) << "foot " << f;
+  }
+}
+
+TEST(ContactDetection, HysteresisKeepsAContactThroughNoiseAtTheThreshold) {
+  // A planted foot creeping at 0.4 m/s (between the begin speed 0.33 and the end speed 0.5): once
+  // planted at rest, it stays planted; a foot that only ever creeps at 0.4 m/s never begins one.
+  std::vector<double> time;
+  std::vector<Eigen::Vector3d> resting_then_creeping, creeping;
+  for (int k = 0; k < 240; ++k) {
+    const double t = k / kRate;
+    time.push_back(t);
+    resting_then_creeping.emplace_back(t < 0.5 ? 0.0 : 0.4 * (t - 0.5), 0, 0.08);
+    creeping.emplace_back(0.4 * t, 0, 0.08);
+  }
+  const FootContacts contacts = DetectContacts({resting_then_creeping, creeping}, time, {});
+  EXPECT_EQ(contacts.framesInContact(0), 240);
+  EXPECT_EQ(contacts.framesInContact(1), 0);
+}
+
+TEST(ContactDetection, CmuWalkAlternatesItsFeet) {
+  SYN_REQUIRE_SHARED("cmu_bvh/02/02_01.bvh");
+  IngestOptions ingest;
+  ingest.drop_first_frame = true;
+  const MarkerData capture = IngestCapture(testing::SharedPath("cmu_bvh/02/02_01.bvh"), ingest, nullptr);
+  const LandmarkTrajectories landmarks =
+      ComputeLandmarks(capture, LoadMarkerSet(testing::SourcePath("manifests/markersets/cmu-bvh.toml")), "02_01");
+  std::vector<std::vector<Eigen::Vector3d>> feet(2);
+  for (int f = 0; f < 2; ++f) {
+    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), f == 0 ? "left_foot" : "right_foot");
+    ASSERT_NE(found, landmarks.names.end());
+    const int64_t l = found - landmarks.names.begin();
+    for (int64_t t = 0; t < landmarks.frames; ++t) {
+      const double* pose = &landmarks.pose[static_cast<size_t>((t * landmarks.count() + l) * 7)];
+      feet[static_cast<size_t>(f)].emplace_back(pose[0], pose[1], pose[2]);
+    }
+  }
+  const FootContacts contacts = DetectContacts(feet, capture.time_s, {});
+  // 02_01 is 2.9 s of walking, about 2.5 strides: each foot is planted 2–4 times, for 30–75 % of the
+  // frames (stance is ~60 % of a human gait cycle), and at every frame at least one foot is down or
+  // the walk is in a swing of at most 0.15 s (walking has no flight phase; detection edges blur it).
+  for (int f = 0; f < 2; ++f) {
+    int phases = 0;
+    for (const ContactPhase& phase : contacts.phases) phases += phase.foot == f;
+    EXPECT_GE(phases, 2) << "foot " << f;
+    EXPECT_LE(phases, 4) << "foot " << f;
+    const double fraction = static_cast<double>(contacts.framesInContact(f)) / static_cast<double>(contacts.frames);
+    EXPECT_GT(fraction, 0.3) << "foot " << f;
+    EXPECT_LT(fraction, 0.75) << "foot " << f;
+  }
+  int64_t airborne = 0, longest = 0;
+  for (int64_t t = 0; t < contacts.frames; ++t) {
+    airborne = contacts.at(t, 0) || contacts.at(t, 1) ? 0 : airborne + 1;
+    longest = std::max(longest, airborne);
+  }
+  EXPECT_LE(static_cast<double>(longest) / capture.rate_hz, 0.15);
+}
+
+}  // namespace
+}  // namespace syn

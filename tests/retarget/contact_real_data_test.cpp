@@ -1,0 +1,285 @@
+// What syn-retarget reports about feet and floor is what a forward kinematics independent of the stage
+// (tests/support/independent_fk.h, from the URDF text) measures on its output: per trial the share of
+// frames with a sole point more than 1 cm below the floor, the deepest point, the stance drift during the
+// source's contact phases, and GMD's foot-skating ratio of the robot and of the source's foot targets
+// (with the robot's soles). On the demo walk and on every shared CMU walk and dance, onto the G1 and the
+// HRP-4C. These are the figures issue 17 must bring down; the tests hold the stage to reporting them
+// truthfully, not to their values.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "common/intermediate_file.h"
+#include "common/markers_file.h"
+#include "common/foot_sliding.h"
+#include "stages/ingest/ingest.h"
+#include "stages/retarget/retarget.h"
+#include "tests/support/demo_motion.h"
+#include "tests/support/independent_fk.h"
+#include "tests/support/shared_data.h"
+
+namespace syn {
+namespace {
+
+double Quantile(std::vector<double> values, double q) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, static_cast<size_t>(q * static_cast<double>(values.size() - 1) + 0.5))];
+}
+
+std::vector<std::string> SplitCsv(const std::string& line) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') quoted = !quoted;
+    else if (c == ',' && !quoted) cells.emplace_back();
+    else cells.back() += c;
+  }
+  return cells;
+}
+
+// The shared CMU trials of the given classes (index.csv's motion_class).
+std::vector<std::string> CmuTrials(const std::vector<std::string>& classes) {
+  std::ifstream in(testing::SharedPath("cmu_bvh/index.csv"));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> files;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = SplitCsv(line);
+    if (std::find(classes.begin(), classes.end(), cells[4]) != classes.end()) files.push_back(cells[2]);
+  }
+  return files;
+}
+
+struct Robot {
+  std::string name, urdf, map;
+  std::vector<std::string> foot_links;
+  std::vector<std::vector<Eigen::Vector3d>> sole_points;  // per foot, link frame (from the robot map text)
+};
+
+Robot G1() {
+  const std::vector<Eigen::Vector3d> sole = {{-0.05, 0.025, -0.035}, {-0.05, -0.025, -0.035}, {0.12, 0.03, -0.035}, {0.12, -0.03, -0.035}};
+  return {"G1", testing::SourcePath(testing::kG1Urdf), testing::SourcePath(testing::kG1Map),
+          {"left_ankle_roll_link", "right_ankle_roll_link"}, {sole, sole}};
+}
+
+Robot Hrp4c() {
+  const std::vector<Eigen::Vector3d> sole = {{-0.02, 0.05, -0.08}, {-0.02, -0.05, -0.08}, {0.18, 0.05, -0.08}, {0.18, -0.05, -0.08}};
+  return {"HRP-4C", testing::SharedPath("robots/humanoid_synergies/HRP4c_optitrack_model.urdf"),
+          testing::SourcePath("manifests/robots/hrp4c.toml"), {"LL_foot", "RL_foot"}, {sole, sole}};
+}
+
+struct ContactCheck {
+  int64_t frames = 0;
+  double penetrating_fraction = 0;  // frames with a sole point > 1 cm below z = 0
+  double deepest = 0;               // m below z = 0
+  std::vector<double> drift;        // per source contact phase, m
+  double robot_skating = 0, source_skating = 0;
+};
+
+// Checks a retargeted motion with the independent FK.
+ContactCheck CheckContacts(const MotionData& motion, const Robot& robot, const testing::IndependentFk& fk, bool free_base) {
+  ContactCheck check;
+  const int64_t frames = motion.frames(), nq = motion.nq();
+  const size_t feet = robot.foot_links.size();
+  check.frames = frames;
+  // Sole points per frame and foot.
+  std::vector<std::vector<FootSample>> robot_feet(feet), source_feet(feet);
+  std::vector<std::vector<Eigen::Vector2d>> centre(feet);
+  int64_t penetrating = 0;
+  for (int64_t t = 0; t < frames; ++t) {
+    const auto poses = fk.poses(motion.coordinate_names, &motion.q[static_cast<size_t>(t * nq)], free_base);
+    double lowest_frame = 1e9;
+    for (size_t f = 0; f < feet; ++f) {
+      const Eigen::Isometry3d& pose = poses.at(robot.foot_links[f]);
+      FootSample sample;
+      sample.lowest_z = 1e9;
+      for (const Eigen::Vector3d& point : robot.sole_points[f]) {
+        const Eigen::Vector3d world = pose * point;
+        sample.x += world.x() / static_cast<double>(robot.sole_points[f].size());
+        sample.y += world.y() / static_cast<double>(robot.sole_points[f].size());
+        sample.lowest_z = std::min(sample.lowest_z, world.z());
+      }
+      lowest_frame = std::min(lowest_frame, sample.lowest_z);
+      robot_feet[f].push_back(sample);
+      centre[f].emplace_back(sample.x, sample.y);
+    }
+    if (lowest_frame < -0.01) ++penetrating;
+    check.deepest = std::max(check.deepest, -lowest_frame);
+  }
+  check.penetrating_fraction = static_cast<double>(penetrating) / static_cast<double>(frames);
+  // Drift: within each contact phase of the source, the largest horizontal distance of the sole centre
+  // from where it was when the phase began.
+  EXPECT_EQ(motion.contact_feet.size(), feet);
+  for (size_t f = 0; f < feet && motion.contact_feet.size() == feet; ++f) {
+    int64_t begin = -1;
+    double drift = 0;
+    for (int64_t t = 0; t <= frames; ++t) {
+      const bool planted = t < frames && motion.contact[static_cast<size_t>(t) * feet + f] != 0;
+      if (planted && begin < 0) begin = t, drift = 0;
+      if (planted) drift = std::max(drift, (centre[f][static_cast<size_t>(t)] - centre[f][static_cast<size_t>(begin)]).norm());
+      if (!planted && begin >= 0) check.drift.push_back(drift), begin = -1;
+    }
+  }
+  // The source's feet scaled to the robot, measured like the robot's: the robot's sole points placed at
+  // each foot landmark's target pose (position and orientation), heights from the level the source's
+  // planted frames sit at (their median lowest sole point).
+  const size_t landmarks = motion.landmark_names.size();
+  std::vector<double> planted_levels;
+  for (size_t f = 0; f < feet; ++f) {
+    const std::string name = f == 0 ? "left_foot" : "right_foot";
+    const size_t l = static_cast<size_t>(std::find(motion.landmark_names.begin(), motion.landmark_names.end(), name) -
+                                         motion.landmark_names.begin());
+    EXPECT_LT(l, landmarks);
+    for (int64_t t = 0; t < frames; ++t) {
+      const double* target = &motion.landmark_targets[(static_cast<size_t>(t) * landmarks + l) * 7];
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      pose.translation() = Eigen::Vector3d(target[0], target[1], target[2]);
+      if (std::isfinite(target[3])) pose.linear() = Eigen::Quaterniond(target[3], target[4], target[5], target[6]).normalized().toRotationMatrix();
+      FootSample sample;
+      sample.lowest_z = 1e9;
+      for (const Eigen::Vector3d& point : robot.sole_points[f]) {
+        const Eigen::Vector3d world = pose * point;
+        sample.x += world.x() / static_cast<double>(robot.sole_points[f].size());
+        sample.y += world.y() / static_cast<double>(robot.sole_points[f].size());
+        sample.lowest_z = std::min(sample.lowest_z, world.z());
+      }
+      source_feet[f].push_back(sample);
+      if (motion.contact_feet.size() == feet && motion.contact[static_cast<size_t>(t) * feet + f] != 0) {
+        planted_levels.push_back(sample.lowest_z);
+      }
+    }
+  }
+  const double planted_level = Quantile(planted_levels, 0.5);
+  for (auto& foot : source_feet) {
+    for (FootSample& sample : foot) sample.lowest_z -= planted_level;
+  }
+  const double dt = (motion.time_s.back() - motion.time_s.front()) / static_cast<double>(frames - 1);
+  FootSlidingOptions sliding;
+  sliding.penetration = 1e9;  // the skating measure alone (penetration is checked above)
+  auto ratio = [&](const std::vector<std::vector<FootSample>>& samples) {
+    const std::vector<uint8_t> flags = FindSlidingFrames(samples, dt, sliding);
+    return static_cast<double>(std::count(flags.begin(), flags.end(), 1)) / static_cast<double>(flags.size());
+  };
+  check.robot_skating = ratio(robot_feet);
+  check.source_skating = ratio(source_feet);
+  return check;
+}
+
+// The stage's own figures (RetargetSummary) against the independent check of its output.
+void ExpectSummaryMatches(const RetargetSummary& summary, const ContactCheck& check) {
+  EXPECT_NEAR(summary.deepest_penetration, check.deepest, 2e-3);
+  EXPECT_NEAR(summary.penetrating_fraction, check.penetrating_fraction, 0.005);
+  EXPECT_EQ(summary.contact_phases.size(), check.drift.size());
+  if (!check.drift.empty()) {
+    EXPECT_NEAR(summary.median_drift, Quantile(check.drift, 0.5), 1e-3);
+  }
+  EXPECT_NEAR(summary.foot_skating, check.robot_skating, 0.01);
+  EXPECT_NEAR(summary.source_foot_skating, check.source_skating, 0.01);
+}
+
+std::string WriteMarkers(const MarkerData& data, const std::string& path) {
+  IntermediateWriter writer(path, {kMarkersSchema, kMarkersSchemaVersion, "test", {}, nlohmann::json::array()});
+  WriteMarkerData(writer, data);
+  writer.commit();
+  return path;
+}
+
+// Returns the stance drift of every contact phase of every trial (m).
+std::vector<double> CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
+  const std::string dir = std::filesystem::temp_directory_path() / ("syn_contacts_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const testing::IndependentFk fk(robot.urdf);
+  std::vector<double> all_drift;
+  std::fprintf(stderr, "%-10s %-7s %6s %8s %8s %8s %8s %8s %8s\n", "trial", "robot", "frames", "pen>1cm%", "deepest",
+               "drift50", "drift95", "skate", "source");
+  int trials = 0;
+  double all_penetrating = 0, all_frames = 0;
+  for (const std::string& file : CmuTrials({"walk", "dance"})) {
+    SCOPED_TRACE(file + " onto " + robot.name);
+    IngestOptions ingest;
+    ingest.drop_first_frame = file.find("_excerpt") == std::string::npos;
+    const std::string markers =
+        WriteMarkers(IngestCapture(testing::SharedPath("cmu_bvh/" + file), ingest, nullptr), dir + "/capture.markers.h5");
+    RetargetOptions options;
+    options.model = robot.urdf;
+    options.robot_map = robot.map;
+    options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
+    RetargetSummary summary;
+    const MotionData motion = RetargetFile(markers, options, &summary);
+    const ContactCheck check = CheckContacts(motion, robot, fk, free_base);
+    ++trials;
+    // What the stage reports is what an independent FK measures on its output (the issue's thresholds are
+    // printed below, not asserted: they do not hold on every trial yet — see the issue note).
+    ExpectSummaryMatches(summary, check);
+    all_drift.insert(all_drift.end(), check.drift.begin(), check.drift.end());
+    all_penetrating += check.penetrating_fraction * static_cast<double>(check.frames);
+    all_frames += static_cast<double>(check.frames);
+    std::fprintf(stderr, "%-10s %-7s %6lld %8.2f %8.1f %8.1f %8.1f %8.3f %8.3f\n",
+                 std::filesystem::path(file).stem().c_str(), robot.name.c_str(), static_cast<long long>(check.frames),
+                 100 * check.penetrating_fraction, 1000 * check.deepest, 1000 * Quantile(check.drift, 0.5),
+                 1000 * Quantile(check.drift, 0.95), check.robot_skating, check.source_skating);
+  }
+  std::fprintf(stderr, "all %zu contact phases: stance drift median %.1f mm, p95 %.1f mm\n", all_drift.size(),
+               1000 * Quantile(all_drift, 0.5), 1000 * Quantile(all_drift, 0.95));
+  std::fprintf(stderr, "%s: frames with a sole point > 1 cm below the floor: %.1f %% of %.0f\n", robot.name.c_str(),
+               100 * all_penetrating / all_frames, all_frames);
+  EXPECT_EQ(trials, 32);  // the walk and dance rows of index.csv (quoted labels hold commas)
+  std::filesystem::remove_all(dir);
+  return all_drift;
+}
+
+TEST(RetargetContacts, DemoWalkOntoG1ReportsWhatAnIndependentFkMeasures) {
+  SYN_REQUIRE_SHARED("cmu_bvh/02/02_01.bvh");
+  const Robot robot = G1();
+  const std::string dir = std::filesystem::temp_directory_path() / ("syn_demo_contacts_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  IngestOptions ingest;
+  ingest.drop_first_frame = true;
+  const std::string markers =
+      WriteMarkers(IngestCapture(testing::SharedPath("cmu_bvh/02/02_01.bvh"), ingest, nullptr), dir + "/walk.markers.h5");
+  RetargetOptions options;
+  options.model = robot.urdf;
+  options.robot_map = robot.map;
+  options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
+  RetargetSummary summary;
+  const MotionData motion = RetargetFile(markers, options, &summary);
+  std::filesystem::remove_all(dir);
+  const ContactCheck check = CheckContacts(motion, robot, testing::IndependentFk(robot.urdf), true);
+  EXPECT_GE(check.drift.size(), 4u);  // the walk's steps: the source's contacts are detected
+  // The stage's own report agrees with the independent check.
+  ExpectSummaryMatches(summary, check);
+  std::fprintf(stderr, "stance drift p95 %.1f mm; foot skating: robot %.3f, source %.3f\n", 1000 * Quantile(check.drift, 0.95),
+               check.robot_skating, check.source_skating);
+  std::fprintf(stderr, "02_01 onto G1: %s\n", summary.BriefReport().c_str());
+}
+
+TEST(RetargetContacts, EveryCmuWalkAndDanceOntoG1) {
+#ifdef SYN_SANITIZED_BUILD
+  GTEST_SKIP() << "the real-data contact sweep runs in the Release test run, not under the sanitizers";
+#endif
+  SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
+  CheckEveryWalkAndDance(G1(), true);
+}
+
+TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
+#ifdef SYN_SANITIZED_BUILD
+  GTEST_SKIP() << "the real-data contact sweep runs in the Release test run, not under the sanitizers";
+#endif
+  SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
+  SYN_REQUIRE_SHARED("robots/humanoid_synergies/HRP4c_optitrack_model.urdf");
+  CheckEveryWalkAndDance(Hrp4c(), false);  // the stage's figures against the independent check
+}
+
+}  // namespace
+}  // namespace syn
