@@ -398,11 +398,9 @@ struct MassTimesTree {
     }
   }
 
-  // p = A(q) u and tau = A(q) udot + b(q, u) + g(q) (Workspace::calcInverseDynamics) in one outward and one
-  // inward pass; the poses stay for linkPose(). Gravity enters as the ground accelerating upward by g.
-  void dynamics(bool free_base, double gravity, const Eigen::VectorXd& q_in, const Eigen::VectorXd& u,
-                const Eigen::VectorXd& udot, Eigen::VectorXd& momentum, Eigen::VectorXd& tau) {
-    using Kind = Model::Impl::MobilityKind;
+  // Both passes begin here: q (a free base's quaternion normalised, as Workspace::setQ does) and the
+  // ground at rest at the origin.
+  Pose& startAtGround(bool free_base, const Eigen::VectorXd& q_in) {
     q = q_in;
     if (free_base) {
       const double norm = q.head<4>().norm();
@@ -413,6 +411,15 @@ struct MassTimesTree {
     ground.origin.setZero();
     ground.angular.setZero();
     ground.linear.setZero();
+    return ground;
+  }
+
+  // p = A(q) u and tau = A(q) udot + b(q, u) + g(q) (Workspace::calcInverseDynamics) in one outward and one
+  // inward pass; the poses stay for linkPose(). Gravity enters as the ground accelerating upward by g.
+  void dynamics(bool free_base, double gravity, const Eigen::VectorXd& q_in, const Eigen::VectorXd& u,
+                const Eigen::VectorXd& udot, Eigen::VectorXd& momentum, Eigen::VectorXd& tau) {
+    using Kind = Model::Impl::MobilityKind;
+    Pose& ground = startAtGround(free_base, q_in);
     ground.alpha.setZero();
     ground.acceleration = Eigen::Vector3d(0, 0, gravity);
     for (size_t b = 1; b < bodies.size(); ++b) {
@@ -526,16 +533,7 @@ struct MassTimesTree {
 
   void massTimes(bool free_base, const Eigen::VectorXd& q_in, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
     using Kind = Model::Impl::MobilityKind;
-    q = q_in;
-    if (free_base) {
-      const double norm = q.head<4>().norm();
-      if (norm > 0) q.head<4>() /= norm;
-    }
-    Pose& ground = poses[0];
-    ground.R.setIdentity();
-    ground.origin.setZero();
-    ground.angular.setZero();
-    ground.linear.setZero();
+    startAtGround(free_base, q_in);
     // Outward: poses, velocities and each body's own momentum.
     for (size_t b = 1; b < bodies.size(); ++b) {
       const Body& body = bodies[b];

@@ -11,6 +11,7 @@
 #include "common/configuration_space.h"
 #include "common/error.h"
 #include "common/foot_sliding.h"
+#include "common/percentile.h"
 #include "common/markers_file.h"
 #include "stages/retarget/frame_ik.h"
 #include "stages/retarget/landmarks.h"
@@ -19,14 +20,6 @@
 
 namespace syn {
 namespace {
-
-double Percentile(std::vector<double> values, double fraction) {
-  values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }), values.end());
-  if (values.empty()) return std::nan("");
-  const size_t index = std::min(values.size() - 1, static_cast<size_t>(fraction * static_cast<double>(values.size() - 1) + 0.5));
-  std::nth_element(values.begin(), values.begin() + static_cast<long>(index), values.end());
-  return values[index];
-}
 
 struct LandmarkSample {
   bool valid = false;
@@ -344,10 +337,10 @@ void MeasureLandmarkErrors(FrameIk& ik, const TrackedTasks& tasks, const std::ve
     }
   }
   for (size_t level = 0; level < 3; ++level) {
-    report.median_position_error[level] = Percentile(position_by_level[level], 0.5);
-    report.p95_position_error[level] = Percentile(position_by_level[level], 0.95);
-    report.median_angle_error[level] = Percentile(angle_by_level[level], 0.5);
-    report.p95_angle_error[level] = Percentile(angle_by_level[level], 0.95);
+    report.median_position_error[level] = NearestRankPercentile(position_by_level[level], 0.5);
+    report.p95_position_error[level] = NearestRankPercentile(position_by_level[level], 0.95);
+    report.median_angle_error[level] = NearestRankPercentile(angle_by_level[level], 0.5);
+    report.p95_angle_error[level] = NearestRankPercentile(angle_by_level[level], 0.95);
   }
 }
 
@@ -454,6 +447,7 @@ void MeasureContacts(const Model& model, Workspace& workspace, const RobotMap& m
   std::vector<int> links;
   for (const RobotFoot& foot : map.feet) links.push_back(model.findLinkIndex(foot.link));
   std::vector<std::vector<FootSample>> robot(feet), source(feet);
+  for (size_t f = 0; f < feet; ++f) robot[f].reserve(static_cast<size_t>(frames)), source[f].reserve(static_cast<size_t>(frames));
   Eigen::VectorXd q(nq);
   int64_t penetrating = 0;
   for (int64_t t = 0; t < frames; ++t) {
@@ -489,8 +483,8 @@ void MeasureContacts(const Model& model, Workspace& workspace, const RobotMap& m
     report.phase_drift.push_back(drift);
   }
   if (!report.phase_drift.empty()) {
-    report.median_drift = Percentile(report.phase_drift, 0.5);
-    report.p95_drift = Percentile(report.phase_drift, 0.95);
+    report.median_drift = NearestRankPercentile(report.phase_drift, 0.5);
+    report.p95_drift = NearestRankPercentile(report.phase_drift, 0.95);
     report.max_drift = *std::max_element(report.phase_drift.begin(), report.phase_drift.end());
   }
   report.foot_skating = SkatingRatio(robot, motion.time_s);
@@ -500,7 +494,7 @@ void MeasureContacts(const Model& model, Workspace& workspace, const RobotMap& m
       if (contacts.at(static_cast<int64_t>(t), static_cast<int>(f))) planted_levels.push_back(source[f][t].lowest_z);
     }
   }
-  const double level = planted_levels.empty() ? 0.0 : Percentile(planted_levels, 0.5);
+  const double level = planted_levels.empty() ? 0.0 : NearestRankPercentile(planted_levels, 0.5);
   for (std::vector<FootSample>& foot : source) {
     for (FootSample& sample : foot) sample.lowest_z -= level;
   }

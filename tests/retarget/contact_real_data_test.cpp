@@ -23,6 +23,7 @@
 #include "common/markers_file.h"
 #include "common/foot_sliding.h"
 #include "stages/ingest/ingest.h"
+#include "stages/ingest/text_fields.h"
 #include "stages/retarget/retarget.h"
 #include "tests/support/demo_motion.h"
 #include "tests/support/independent_fk.h"
@@ -37,17 +38,6 @@ double Quantile(std::vector<double> values, double q) {
   return values[std::min(values.size() - 1, static_cast<size_t>(q * static_cast<double>(values.size() - 1) + 0.5))];
 }
 
-std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (char c : line) {
-    if (c == '"') quoted = !quoted;
-    else if (c == ',' && !quoted) cells.emplace_back();
-    else cells.back() += c;
-  }
-  return cells;
-}
-
 // The shared CMU trials of the given classes (index.csv's motion_class).
 std::vector<std::string> CmuTrials(const std::vector<std::string>& classes) {
   std::ifstream in(testing::SharedPath("cmu_bvh/index.csv"));
@@ -55,7 +45,7 @@ std::vector<std::string> CmuTrials(const std::vector<std::string>& classes) {
   std::getline(in, line);
   std::vector<std::string> files;
   while (std::getline(in, line)) {
-    const std::vector<std::string> cells = SplitCsv(line);
+    const std::vector<std::string> cells = SplitQuotedCsv(line);
     if (std::find(classes.begin(), classes.end(), cells[4]) != classes.end()) files.push_back(cells[2]);
   }
   return files;
@@ -87,6 +77,19 @@ struct ContactCheck {
   double robot_skating = 0, source_skating = 0;
 };
 
+// A foot's sole points at `pose`: their centre and the lowest one's height.
+FootSample SoleAt(const Eigen::Isometry3d& pose, const std::vector<Eigen::Vector3d>& sole_points) {
+  FootSample sample;
+  sample.lowest_z = 1e9;
+  for (const Eigen::Vector3d& point : sole_points) {
+    const Eigen::Vector3d world = pose * point;
+    sample.x += world.x() / static_cast<double>(sole_points.size());
+    sample.y += world.y() / static_cast<double>(sole_points.size());
+    sample.lowest_z = std::min(sample.lowest_z, world.z());
+  }
+  return sample;
+}
+
 // Checks a retargeted motion with the independent FK.
 ContactCheck CheckContacts(const MotionData& motion, const Robot& robot, const testing::IndependentFk& fk, bool free_base) {
   ContactCheck check;
@@ -101,15 +104,7 @@ ContactCheck CheckContacts(const MotionData& motion, const Robot& robot, const t
     const auto poses = fk.poses(motion.coordinate_names, &motion.q[static_cast<size_t>(t * nq)], free_base);
     double lowest_frame = 1e9;
     for (size_t f = 0; f < feet; ++f) {
-      const Eigen::Isometry3d& pose = poses.at(robot.foot_links[f]);
-      FootSample sample;
-      sample.lowest_z = 1e9;
-      for (const Eigen::Vector3d& point : robot.sole_points[f]) {
-        const Eigen::Vector3d world = pose * point;
-        sample.x += world.x() / static_cast<double>(robot.sole_points[f].size());
-        sample.y += world.y() / static_cast<double>(robot.sole_points[f].size());
-        sample.lowest_z = std::min(sample.lowest_z, world.z());
-      }
+      const FootSample sample = SoleAt(poses.at(robot.foot_links[f]), robot.sole_points[f]);
       lowest_frame = std::min(lowest_frame, sample.lowest_z);
       robot_feet[f].push_back(sample);
       centre[f].emplace_back(sample.x, sample.y);
@@ -146,14 +141,7 @@ ContactCheck CheckContacts(const MotionData& motion, const Robot& robot, const t
       Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
       pose.translation() = Eigen::Vector3d(target[0], target[1], target[2]);
       if (std::isfinite(target[3])) pose.linear() = Eigen::Quaterniond(target[3], target[4], target[5], target[6]).normalized().toRotationMatrix();
-      FootSample sample;
-      sample.lowest_z = 1e9;
-      for (const Eigen::Vector3d& point : robot.sole_points[f]) {
-        const Eigen::Vector3d world = pose * point;
-        sample.x += world.x() / static_cast<double>(robot.sole_points[f].size());
-        sample.y += world.y() / static_cast<double>(robot.sole_points[f].size());
-        sample.lowest_z = std::min(sample.lowest_z, world.z());
-      }
+      const FootSample sample = SoleAt(pose, robot.sole_points[f]);
       source_feet[f].push_back(sample);
       if (motion.contact_feet.size() == feet && motion.contact[static_cast<size_t>(t) * feet + f] != 0) {
         planted_levels.push_back(sample.lowest_z);

@@ -10,6 +10,7 @@
 #include "common/file_bytes.h"
 #include "common/intermediate_file.h"
 #include "common/motion_file.h"
+#include "common/percentile.h"
 
 namespace syn {
 namespace {
@@ -20,14 +21,6 @@ double OptionalAttribute(const IntermediateReader& reader, const char* name) {
 }
 
 }  // namespace
-
-double NearestRankPercentile(std::vector<double> values, double fraction) {
-  values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }), values.end());
-  if (values.empty()) return std::nan("");
-  const size_t index = std::min(values.size() - 1, static_cast<size_t>(fraction * static_cast<double>(values.size() - 1) + 0.5));
-  std::nth_element(values.begin(), values.begin() + static_cast<long>(index), values.end());
-  return values[index];
-}
 
 TrialQuality ReadTrialQuality(const std::string& motion_path, const std::string& metrics_path,
                               const std::map<std::string, int>& priority_of_landmark) {

@@ -25,9 +25,6 @@ struct TrialQuality {
   double foot_sliding_ratio = 0;          // syn-evaluate, metrics.json trial.foot_sliding_ratio; NaN if absent
 };
 
-// Nearest-rank percentile of the finite values (fraction in [0, 1]); NaN when there are none. The same
-// definition as syn-retarget's summary line, so the release's figures equal the ones it logged.
-[[nodiscard]] double NearestRankPercentile(std::vector<double> values, double fraction);
 
 // `priority_of_landmark`: landmark name -> priority level (from the robot map); landmarks it does not
 // name count as priority 1.
