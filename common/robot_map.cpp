@@ -15,6 +15,13 @@ class RobotMapParser {
  public:
   explicit RobotMapParser(std::string file) : fields_(std::move(file)) {}
 
+  // A priority level indexes priority_weights, so it is range-checked before it is narrowed to int.
+  int priority(const toml::node& value) const {
+    const int64_t level = fields_.integer(value, "priority");
+    if (level < 1 || level > 3) fields_.fail(value, "priority must be 1, 2 or 3");
+    return static_cast<int>(level);
+  }
+
   RobotTask task(const toml::table& table, int line) const {
     RobotTask task;
     task.line = line;
@@ -35,8 +42,7 @@ class RobotMapParser {
         else if (type == "position") task.type = TaskType::kPosition;
         else fields_.fail(value, "task type must be pose, orientation or position, not '" + type + "'");
       } else if (name == "priority") {
-        task.priority = static_cast<int>(fields_.number(value, name));
-        if (task.priority < 1 || task.priority > 3) fields_.fail(value, "priority must be 1, 2 or 3");
+        task.priority = priority(value);
       } else if (name == "weight") {
         task.weight = fields_.number(value, name);
         if (!(task.weight >= 0)) fields_.fail(value, "weight must be >= 0");
@@ -109,7 +115,7 @@ class RobotMapParser {
         if (!table) fields_.fail(value, "[posture] must be a table");
         for (const auto& [posture_key, posture_value] : *table) {
           if (posture_key == "weight") map.posture_weight = fields_.number(posture_value, "weight");
-          else if (posture_key == "priority") map.posture_priority = static_cast<int>(fields_.number(posture_value, "priority"));
+          else if (posture_key == "priority") map.posture_priority = priority(posture_value);
           else fields_.fail(posture_value, "unknown posture key (expected weight, priority)");
         }
       } else if (name == "reference_stance") {

@@ -54,7 +54,10 @@ void WriteRecipe(FuzzedDataProvider& recipe, const std::string& path) {
   for (int d = 0; d < datasets && recipe.remaining_bytes() > 0; ++d) {
     const std::string name = recipe.PickValueInArray(kNames);
     bool taken = false;
-    for (const std::string& other : written) taken = taken || other == name || name.rfind(other + "/", 0) == 0;
+    // A name is free when it is neither written nor under or above a written one (a dataset cannot be a group).
+    for (const std::string& other : written) {
+      taken = taken || other == name || name.rfind(other + "/", 0) == 0 || other.rfind(name + "/", 0) == 0;
+    }
     if (taken) continue;
     std::vector<int64_t> dims(static_cast<size_t>(recipe.ConsumeIntegralInRange(0, 3)));
     int64_t count = 1;

@@ -71,6 +71,11 @@ TEST(RobotMap, MistakesAreReportedAtTheirLine) {
   EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\npriority = 4\n"), 4);
   EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n[[task]]\nlandmark = \"pelvis\"\nlink = \"q\"\n"), 4);
   EXPECT_EQ(line_of("robot = \"x\"\nspeed = 3\n"), 2);
+  // The posture level indexes the three priority weights: out of range, fractional or huge is an error, not UB.
+  EXPECT_EQ(line_of("[posture]\npriority = 0\n"), 2);
+  EXPECT_EQ(line_of("[posture]\npriority = 55555755555555555\n"), 2);
+  EXPECT_EQ(line_of("[posture]\n\npriority = 2.5\n"), 3);
+  EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\npriority = 1e300\n"), 4);
 }
 
 }  // namespace
