@@ -116,7 +116,8 @@ IntermediateWriter::IntermediateWriter(std::string path, const Provenance& prove
   SilenceHdf5ErrorStack();
   temporary_path_ = path_ + ".tmp-" + std::to_string(::getpid());
   const std::filesystem::path parent = std::filesystem::path(path_).parent_path();
-  if (!parent.empty() && !std::filesystem::is_directory(parent)) {
+  std::error_code unreadable;
+  if (!parent.empty() && !std::filesystem::is_directory(parent, unreadable)) {
     throw DataError(Location::InFile(path_), "output directory does not exist: " + parent.string());
   }
   Id file_properties = Checked(H5Pcreate(H5P_FILE_CREATE), H5Pclose, path_, "cannot create file properties");
@@ -293,7 +294,8 @@ IntermediateReader::IntermediateReader(std::string path, const std::string& expe
                                        int64_t expected_version)
     : path_(std::move(path)), handles_(std::make_unique<Handles>()) {
   SilenceHdf5ErrorStack();
-  if (!std::filesystem::exists(path_)) throw DataError(Location::InFile(path_), "no such file");
+  std::error_code unreadable;
+  if (!std::filesystem::exists(path_, unreadable)) throw DataError(Location::InFile(path_), "no such file");
   if (H5Fis_hdf5(path_.c_str()) <= 0) {
     throw DataError(Location::InFile(path_), "not an HDF5 file; expected a " + expected_schema + " intermediate");
   }
@@ -494,7 +496,8 @@ struct DescribeContext {
 
 nlohmann::json DescribeIntermediateFile(const std::string& path) {
   SilenceHdf5ErrorStack();
-  if (!std::filesystem::exists(path)) throw DataError(Location::InFile(path), "no such file");
+  std::error_code unreadable;
+  if (!std::filesystem::exists(path, unreadable)) throw DataError(Location::InFile(path), "no such file");
   if (H5Fis_hdf5(path.c_str()) <= 0) throw DataError(Location::InFile(path), "not an HDF5 file");
   Id file = Checked(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path, "cannot open");
   DescribeContext context{path, nlohmann::json::object(), nlohmann::json::object()};

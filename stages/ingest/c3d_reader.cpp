@@ -223,6 +223,16 @@ std::vector<double> Numbers_(const Parameters& parameters, const std::string& ke
   return values;
 }
 
+// A count or block number read from a parameter (a float parameter can hold anything): negative or not finite
+// is 0, and it saturates far above any real file, so the conversion is defined.
+size_t Count(double value) { return value >= 1 ? static_cast<size_t>(std::min(value, 4.0e9)) : 0; }
+
+// A parameter number as a 16-bit word: integer parameters are stored signed (65535 reads as -1); a float
+// outside the word's range reads as 0.
+size_t Word(double value) {
+  return value >= -32768 && value <= 65535 ? static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(value))) : 0;
+}
+
 double Number(const Parameters& parameters, const std::string& key, const Numbers& numbers, double fallback) {
   const Parameter* parameter = Find(parameters, key);
   if (!parameter || parameter->type == -1 || parameter->count() == 0) return fallback;
@@ -384,7 +394,7 @@ PointLayout ReadPointLayout(const Header& header, const Parameters& parameters, 
                             std::vector<std::string>& warnings, const Fail& fail) {
   PointLayout layout;
   const double used = Number(parameters, "POINT:USED", numbers, static_cast<double>(header.points));
-  layout.points = static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(used)));
+  layout.points = Word(used);
   if (layout.points != header.points) {
     warnings.push_back("POINT:USED (" + std::to_string(layout.points) + ") differs from the header (" +
                        std::to_string(header.points) + "); using the header");
@@ -396,7 +406,7 @@ PointLayout ReadPointLayout(const Header& header, const Parameters& parameters, 
   layout.rate = Number(parameters, "POINT:RATE", numbers, header.rate);
   if (!(layout.rate > 0) || !std::isfinite(layout.rate)) layout.rate = header.rate;
   if (!(layout.rate > 0) || !std::isfinite(layout.rate)) throw fail(20, "no usable frame rate (header and POINT:RATE)");
-  const size_t stated_block = static_cast<size_t>(Number(parameters, "POINT:DATA_START", numbers, 0));
+  const size_t stated_block = Count(Number(parameters, "POINT:DATA_START", numbers, 0));
   if (stated_block >= 2 && stated_block != header.data_block) {
     warnings.push_back("POINT:DATA_START differs from the header; using the header");
   }
@@ -418,7 +428,7 @@ struct AnalogLayout {
 AnalogLayout ReadAnalogLayout(const Header& header, const Parameters& parameters, const Numbers& numbers,
                               std::vector<std::string>& warnings) {
   AnalogLayout layout;
-  layout.channels = static_cast<size_t>(std::max(0.0, Number(parameters, "ANALOG:USED", numbers, 0)));
+  layout.channels = Count(Number(parameters, "ANALOG:USED", numbers, 0));
   if (layout.channels > 0 && header.analog_per_frame % layout.channels == 0) {
     layout.subframes = header.analog_per_frame / layout.channels;
   }
@@ -444,8 +454,7 @@ size_t CountFrames(const Header& header, const Parameters& parameters, const Num
   const std::vector<double> end_field = Numbers_(parameters, "TRIAL:ACTUAL_END_FIELD", numbers);
   if (start_field.size() >= 2 && end_field.size() >= 2) {
     const auto field = [](const std::vector<double>& words) {
-      return static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(words[0]))) +
-             (static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(words[1]))) << 16);
+      return Word(words[0]) + (Word(words[1]) << 16);
     };
     const size_t first = field(start_field), last = field(end_field);
     if (last >= first && last - first + 1 > frames) frames = last - first + 1;
@@ -455,7 +464,7 @@ size_t CountFrames(const Header& header, const Parameters& parameters, const Num
   if (frame_bytes == 0) return frames;  // No points and no analog (Theia's ROTATION-only files): the header times the trial.
   const size_t available = (size - points.data_start) / frame_bytes;
   if (point_frames > 0) {
-    const size_t stated = static_cast<size_t>(static_cast<uint16_t>(static_cast<int>(point_frames)));
+    const size_t stated = Word(point_frames);
     if (stated > frames && stated <= available) {
       warnings.push_back("header says " + std::to_string(frames) + " frames, POINT:FRAMES " + std::to_string(stated) +
                          ", and the file holds them: using " + std::to_string(stated));

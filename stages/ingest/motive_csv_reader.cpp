@@ -174,7 +174,7 @@ MarkerData ParseMotiveCsv(std::string_view text, const std::string& source_name)
   }
   const std::string exported = info.count("Total Exported Frames") ? info["Total Exported Frames"] : "";
   double declared = 0;
-  if (ParseField(exported, &declared) == FieldValue::kNumber && static_cast<int64_t>(declared) != data.frame_count()) {
+  if (ParseField(exported, &declared) == FieldValue::kNumber && declared != static_cast<double>(data.frame_count())) {
     data.warnings.push_back("Total Exported Frames says " + exported + " but " + std::to_string(data.frame_count()) +
                             " data rows are present");
   }

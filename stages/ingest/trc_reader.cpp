@@ -146,6 +146,7 @@ MarkerData ParseTrc(std::string_view text, const std::string& source_name) {
     double frame_number = 0, time = 0;
     if (ParseField(fields[0], &frame_number) != FieldValue::kNumber) throw fail("Frame# '" + std::string(fields[0]) + "' is not a number");
     if (ParseField(fields[1], &time) != FieldValue::kNumber) throw fail("Time '" + std::string(fields[1]) + "' is not a number");
+    if (!(std::abs(frame_number) <= 9.0e15)) throw fail("Frame# '" + std::string(fields[0]) + "' is out of range");
     if (first_frame_number < 0) first_frame_number = static_cast<int64_t>(frame_number);
     // Times increase: a row whose time does not is damaged (a file cut inside "0.01" reads as time 0).
     if (!data.time_s.empty() && !(time > data.time_s.back())) {

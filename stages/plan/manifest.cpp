@@ -113,7 +113,8 @@ class ManifestParser {
     if (manifest.name.empty()) fields_.fail(1, "the manifest needs a 'name'");
     if (!trials || trials->empty()) fields_.fail(trials_line, "the manifest lists no [[trial]]");
     for (const std::string* file : {&manifest.model, &manifest.robot_map, &manifest.markerset}) {
-      if (!file->empty() && !std::filesystem::exists(*file)) fields_.fail(1, "file not found: " + *file);
+      std::error_code unreadable;  // a name too long for the file system is as missing as an absent file
+      if (!file->empty() && !std::filesystem::exists(*file, unreadable)) fields_.fail(1, "file not found: " + *file);
     }
 
     std::set<std::string> ids;
@@ -187,7 +188,8 @@ Manifest LoadManifest(const std::string& path, const std::string& dataset_root,
   if (!dataset_root.empty()) manifest.root = dataset_root;
   for (ManifestTrial& trial : manifest.trials) {
     trial.path = manifest.root.empty() ? trial.file : manifest.root + "/" + trial.file;
-    if (!std::filesystem::is_regular_file(trial.path)) {
+    std::error_code unreadable;
+    if (!std::filesystem::is_regular_file(trial.path, unreadable)) {
       throw DataError(Location::AtLine(path, trial.line),
                       "trial '" + trial.id + "': capture file not found: " + trial.path +
                           (dataset_root.empty() ? " (set DATASET_ROOT= if the archive lives elsewhere)" : ""));

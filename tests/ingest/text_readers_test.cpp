@@ -103,6 +103,19 @@ TEST(TrcReader, NoMarkersAndCrlf) {
   EXPECT_DOUBLE_EQ(crlf.length_unit_to_m, 1.0);
 }
 
+// A frame number no integer holds is a located error (found by fuzzing: the conversion was undefined).
+TEST(TrcReader, HugeFrameNumberIsAnError) {
+  try {
+    (void)ParseTrc("PathFileType\t4\t(X/Y/Z)\tz.trc\nDataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\n"
+                   "100\t100\t1\t0\tmm\nFrame#\tTime\t\n\t\t\n\n2e68\t0.00\n",
+                   "z.trc");
+    FAIL() << "expected an error";
+  } catch (const DataError& error) {
+    EXPECT_NE(std::string(error.what()).find("z.trc:7"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("out of range"), std::string::npos) << error.what();
+  }
+}
+
 TEST(TrcReader, EFormatAndFractionalRate) {
   SYN_REQUIRE_SHARED("trc/opensim_format_edge_cases/dataWithEformat.trc");
   const MarkerData data = ReadTrc(testing::SharedPath("trc/opensim_format_edge_cases/dataWithEformat.trc"));

@@ -216,6 +216,14 @@ TEST_F(IncrementalMake, ManifestMistakesAreLocated) {
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_NE(result.output.find("bad.toml:3: trial 'a': capture file not found"), std::string::npos) << result.output;
 
+  // A name longer than the file system allows is a missing file too, not an escaped filesystem_error.
+  const std::string too_long(5000, 'v');
+  std::ofstream(dir_ + "/bad.toml") << "name = \"bad\"\nmodel = \"" << too_long << "\"\nroot = \"captures\"\n"
+                                    << "[[trial]]\nid = \"a\"\nfile = \"" << too_long << "\"\n";
+  result = RunCommand("cd " + dir_ + " && " + BinPath("syn-plan") + " bad.toml -o r.mk");
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.output.find("bad.toml:1: file not found: vvvv"), std::string::npos) << result.output.substr(0, 300);
+
   std::ofstream(dir_ + "/bad.toml") << "name = \"bad\"\nroot = \"captures\"\n[ingest]\nfill_gap = 3\n";
   result = RunCommand("cd " + dir_ + " && " + BinPath("syn-plan") + " bad.toml -o r.mk");
   EXPECT_EQ(result.exit_code, 1);

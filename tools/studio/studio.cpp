@@ -96,7 +96,8 @@ nlohmann::json Studio::compose(const std::string& script_text, const std::string
   const ComposeScript script = ParseComposeScript(script_text, file_name);
 
   // The script must name the studio's robot, or what the page saves would compose differently in batch.
-  const std::string script_model_sha = std::filesystem::is_regular_file(script.model) ? Sha256OfFile(script.model) : "";
+  std::error_code unreadable;
+  const std::string script_model_sha = std::filesystem::is_regular_file(script.model, unreadable) ? Sha256OfFile(script.model) : "";
   if (script_model_sha != model_.sourceSha256()) {
     throw StudioLimitError(Location::InFile(file_name), "model = \"" + script.model + "\" is not the studio's robot (" +
                                                             model_path_ + "); name that file");
