@@ -38,6 +38,10 @@ struct MarkerData {
   std::vector<std::string> bodies;     // [B]
   std::vector<std::string> body_parents;  // [B] parent body name, "" for roots / unknown
   std::vector<double> body_pose;       // [T, B, 7]
+  // The capture's calibration stance, when the file has one that is not part of the take (BVH frame 0 that
+  // --drop-first-frame drops: CMU's T-pose): the bodies' poses in it, [B, 7]; empty when there is none.
+  // Retargeting onto a map whose reference stance is that pose uses it as the reference frame.
+  std::vector<double> calibration_body_pose;
 
   // Analog channels (force plates, EMG) at their own rate, scaled to physical units.
   double analog_rate_hz = 0.0;

@@ -23,6 +23,9 @@ void WriteMarkerData(IntermediateWriter& writer, const MarkerData& data) {
     writer.writeStrings("bodies", data.bodies);
     writer.writeStrings("body_parents", data.body_parents);
     writer.writeDoubles("body_pose", {frames, Count(data.bodies), 7}, data.body_pose.data());
+    if (!data.calibration_body_pose.empty()) {
+      writer.writeDoubles("calibration_body_pose", {Count(data.bodies), 7}, data.calibration_body_pose.data());
+    }
   }
   if (!data.analog_labels.empty()) {
     const int64_t channels = Count(data.analog_labels);
@@ -72,6 +75,12 @@ MarkerData ReadMarkersFile(const std::string& path) {
     data.body_pose = reader.readDoubles("body_pose").values;
     if (data.body_pose.size() != frames * data.bodies.size() * 7) {
       throw DataError(Location::InFile(path), "body_pose has the wrong size for frames x bodies x 7");
+    }
+    if (reader.has("calibration_body_pose")) {
+      data.calibration_body_pose = reader.readDoubles("calibration_body_pose").values;
+      if (data.calibration_body_pose.size() != data.bodies.size() * 7) {
+        throw DataError(Location::InFile(path), "calibration_body_pose has the wrong size for bodies x 7");
+      }
     }
   }
   if (reader.has("analog_labels")) {

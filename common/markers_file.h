@@ -3,7 +3,8 @@
 //
 // Datasets: time[T], points[T,M,3], labels[M]; when present computed_points
 // [T,K,3] + computed_labels + computed_kinds; bodies[B] + body_parents[B] +
-// body_pose[T,B,7] (position, quaternion w,x,y,z); analog[Ta,C] +
+// body_pose[T,B,7] (position, quaternion w,x,y,z), and calibration_body_pose[B,7] when the capture carries
+// a calibration stance outside the take (BVH frame 0 under --drop-first-frame); analog[Ta,C] +
 // analog_labels + analog_units (root attribute analog_rate_hz);
 // event_labels/event_contexts/event_times. Root attributes: rate_hz,
 // metadata (JSON: source format, reader facts, ingest conversions, per-marker

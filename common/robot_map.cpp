@@ -118,10 +118,12 @@ class RobotMapParser {
           else if (posture_key == "priority") map.posture_priority = priority(posture_value);
           else fields_.fail(posture_value, "unknown posture key (expected weight, priority)");
         }
-      } else if (name == "reference_stance") {
+      } else if (name == "reference_stance" || name == "calibration_stance") {
         const auto* table = value.as_table();
-        if (!table) fields_.fail(value, "[reference_stance] must map joint names to positions");
-        for (const auto& [joint, position] : *table) map.reference_stance[std::string(joint.str())] = fields_.number(position, "q");
+        if (!table) fields_.fail(value, "[" + name + "] must map joint names to positions");
+        auto& stance = name == "reference_stance" ? map.reference_stance : map.calibration_stance;
+        for (const auto& [joint, position] : *table) stance[std::string(joint.str())] = fields_.number(position, "q");
+        map.has_calibration_stance = map.has_calibration_stance || name == "calibration_stance";
       } else if (name == "feet") {
         const auto* table = value.as_table();
         if (!table) fields_.fail(value, "[feet] must hold [feet.left] and [feet.right]");
@@ -132,7 +134,7 @@ class RobotMapParser {
       } else {
         fields_.fail(value, "unknown key '" + name +
                                 "' (expected robot, floating_base, priority_weights, [[task]], [posture], "
-                                "[reference_stance], [feet])");
+                                "[reference_stance], [calibration_stance], [feet])");
       }
     }
     if (map.tasks.empty()) fields_.fail(1, "the robot map has no [[task]]");
@@ -173,10 +175,13 @@ void CheckRobotMapNames(const RobotMap& map, const std::function<bool(const std:
       throw DataError(Location::AtLine(map.file, foot.line), "foot link '" + foot.link + "' is not in " + model_name);
     }
   }
-  for (const auto& [joint, position] : map.reference_stance) {
-    if (!has_joint(joint)) {
-      throw DataError(Location::InFile(map.file), "reference_stance names joint '" + joint + "', which " +
-                                                      model_name + " does not have");
+  for (const auto* stance : {&map.reference_stance, &map.calibration_stance}) {
+    for (const auto& [joint, position] : *stance) {
+      if (!has_joint(joint)) {
+        throw DataError(Location::InFile(map.file),
+                        std::string(stance == &map.reference_stance ? "reference_stance" : "calibration_stance") +
+                            " names joint '" + joint + "', which " + model_name + " does not have");
+      }
     }
   }
 }

@@ -48,6 +48,12 @@ struct RobotMap {
   int posture_priority = 3;
   double posture_weight = 1.0;
   std::map<std::string, double> reference_stance;  // joint name -> q (rad or m); others 0
+  // The pose captures take in their calibration frame (a T-pose), as joint -> q like reference_stance; when
+  // the map has [calibration_stance] and a capture carries that frame (MarkerData::calibration_body_pose),
+  // the capture is retargeted relative to it rather than to a frame of the take. reference_stance stays
+  // the posture target.
+  std::map<std::string, double> calibration_stance;
+  bool has_calibration_stance = false;
   std::vector<RobotFoot> feet;
 };
 

@@ -9,11 +9,13 @@ namespace syn {
 
 struct CaptureStature {
   double height = 0;  // m
-  int64_t frame = 0;  // the frame it was measured at
+  int64_t frame = 0;  // the frame it was measured at; -1: the calibration frame
 };
 
-// The vertical extent (highest minus lowest z) of every valid marker and body position at the first frame
-// that has any: the reference frame syn-retarget uses when every landmark is present there. Skeleton
+// The vertical extent (highest minus lowest z) of every valid body position in the capture's calibration
+// frame (a BVH's T-pose kept aside by syn-ingest --drop-first-frame: standing straight) when it has one;
+// otherwise of every valid marker and body position at the first frame that has any: the reference frame
+// syn-retarget uses when every landmark is present there. Skeleton
 // captures (BVH) carry the head's and toes' end sites, so the extent runs from the top of the head to the
 // toe tips; marker captures from the head markers to the foot markers (a marker radius above the floor
 // each). At a walking frame it reads a few per cent short of standing stature (measured on CMU walks: see

@@ -290,7 +290,12 @@ HumanModelFiles BuildHumanModel(const HumanModelOptions& options, HumanModelSumm
         << "\"\npriority = " << task.priority << "\n";
   }
   map << "\n[posture]\npriority = 3\nweight = 1.0\n\n# q_ref: the zero pose (standing straight, arms hanging).\n"
-      << "[reference_stance]\n";
+      << "[reference_stance]\n"
+      << "\n# The calibration frame BVH converters put before the take (CMU: a T-pose; syn-ingest --drop-first-frame\n"
+      << "# keeps it aside): arms out sideways, palms down. Captures that carry it are retargeted relative to it,\n"
+      << "# so the first frame of the take (mid-stride in a walk) is not taken for the straight-legged zero pose.\n"
+      << "[calibration_stance]\nleft_shoulder_adduction = " << Number(-M_PI / 2) << "\nright_shoulder_adduction = "
+      << Number(-M_PI / 2) << "\n";
   const double toe_x = heel_x + foot, half_width = kFootWidth * H / 2;
   for (const char* side : {"left", "right"}) {
     map << "\n# Sole: heel to toe tip, foot width " << Number(kFootWidth) << " H, " << Number(ankle_height)

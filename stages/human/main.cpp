@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
                  "1.735 m female), with a warning");
   app.add_option("--height-from-markers", height_from_markers,
                  "Measure the stature in a markers file (syn-ingest) instead: the vertical extent of its markers and "
-                 "bodies at the first frame with data (head top to toe tips for BVH skeletons)")
+                 "bodies in its calibration frame (a BVH's T-pose, kept by syn-ingest --drop-first-frame), else at the first "
+                 "frame with data (head top to toe tips for BVH skeletons)")
       ->excludes("--height");
   app.add_option("--mass", options.mass,
                  "Body mass (kg), [20, 300]; manifest [human] mass. Default: de Leva's reference subject (73.0 kg "
@@ -37,8 +38,9 @@ int main(int argc, char** argv) {
     if (!height_from_markers.empty()) {
       const syn::CaptureStature stature = syn::StatureFromCapture(syn::ReadMarkersFile(height_from_markers), height_from_markers);
       options.height = stature.height;
-      std::cerr << "syn-human: stature " << stature.height << " m from " << height_from_markers << " frame "
-                << stature.frame << "\n";
+      std::cerr << "syn-human: stature " << stature.height << " m from " << height_from_markers
+                << (stature.frame < 0 ? std::string(" calibration frame") : " frame " + std::to_string(stature.frame))
+                << "\n";
     }
     const syn::HumanModelFiles files = syn::BuildHumanModel(options, &summary);
     syn::PrintWarnings("syn-human", summary.warnings);

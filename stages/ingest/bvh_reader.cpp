@@ -169,7 +169,9 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
   if (token != "MOTION") tokens.fail("expected MOTION, found '" + std::string(token) + "'");
   tokens.expect("Frames:");
   const double declared_frames = tokens.number("the frame count");
-  if (declared_frames < 0 || declared_frames != std::floor(declared_frames)) tokens.fail("the frame count must be a whole number");
+  if (!(declared_frames >= 0 && declared_frames <= 1e15) || declared_frames != std::floor(declared_frames)) {
+    tokens.fail("the frame count must be a whole number of a plausible size");
+  }
   tokens.expect("Frame");
   tokens.expect("Time:");
   const double frame_time = tokens.number("the frame time in seconds");
@@ -254,9 +256,9 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
   data.time_s.resize(static_cast<size_t>(frames));
   data.body_pose.resize(static_cast<size_t>(frames) * joints.size() * 7);
   std::vector<Eigen::Isometry3d> world(joints.size());
-  for (int64_t t = 0; t < frames; ++t) {
-    data.time_s[static_cast<size_t>(t)] = static_cast<double>(t) * frame_time;
-    const double* row = &values[static_cast<size_t>(t + first) * static_cast<size_t>(channel_count)];
+  // Every joint's pose in frame `row` of the file, into poses[B, 7].
+  const auto pose_joints = [&](int64_t row_index, double* poses) {
+    const double* row = &values[static_cast<size_t>(row_index) * static_cast<size_t>(channel_count)];
     for (size_t j = 0; j < joints.size(); ++j) {
       const BvhJoint& joint = joints[j];
       Eigen::Vector3d translation = joint.offset;
@@ -275,10 +277,19 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
       local.linear() = rotation;
       world[j] = joint.parent < 0 ? local : world[static_cast<size_t>(joint.parent)] * local;
       const Eigen::Quaterniond orientation(world[j].linear());
-      double* pose = &data.body_pose[(static_cast<size_t>(t) * joints.size() + j) * 7];
+      double* pose = poses + j * 7;
       pose[0] = world[j].translation().x(), pose[1] = world[j].translation().y(), pose[2] = world[j].translation().z();
       pose[3] = orientation.w(), pose[4] = orientation.x(), pose[5] = orientation.y(), pose[6] = orientation.z();
     }
+  };
+  for (int64_t t = 0; t < frames; ++t) {
+    data.time_s[static_cast<size_t>(t)] = static_cast<double>(t) * frame_time;
+    pose_joints(t + first, &data.body_pose[static_cast<size_t>(t) * joints.size() * 7]);
+  }
+  // The dropped frame 0 is the converters' calibration stance (CMU: a T-pose): kept beside the take.
+  if (first > 0) {
+    data.calibration_body_pose.resize(joints.size() * 7);
+    pose_joints(0, data.calibration_body_pose.data());
   }
 
   // Facts for the user and for the scale rule.

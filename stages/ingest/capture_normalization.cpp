@@ -95,6 +95,8 @@ void NormalizeCapture(MarkerData& data, const NormalizationOptions& options) {
   TransformPositions(data.points, 3, scale, rotation);
   TransformPositions(data.body_pose, 7, scale, rotation);
   RotateOrientations(data.body_pose, Eigen::Quaterniond(rotation));
+  TransformPositions(data.calibration_body_pose, 7, scale, rotation);
+  RotateOrientations(data.calibration_body_pose, Eigen::Quaterniond(rotation));
   data.metadata["ingest"]["length_unit_to_m"] = scale;
   data.metadata["ingest"]["original_up_axis"] = std::string(1, up);
   data.metadata["ingest"]["up_axis_reason"] = up_reason;

@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
          "map (as the robot map says) | auto | free | fixed")
       ->default_str("map");
   app.add_option("--reference-time", options.reference_time,
-                 "Time (s) of the reference stance; negative: the first frame where every tracked landmark is present")
+                 "Time (s) of the reference stance; negative: the capture's calibration frame when the robot map's stance is "
+                 "that pose (stance_is_calibration_pose), else the first frame where every tracked landmark is present")
       ->capture_default_str();
   app.add_option_function<std::string>(
          "--scale",

@@ -141,11 +141,43 @@ int64_t FindReferenceFrame(const RetargetInputs& inputs, const LandmarkTrajector
   return reference;
 }
 
-// The robot map's reference stance with the soles on the ground (z = 0).
-Eigen::VectorXd GroundedReferenceStance(const Model& model, Workspace& workspace, const RobotMap& map) {
+// The capture's calibration frame as one-frame landmarks, when the map has a [calibration_stance] and no
+// --reference-time overrides it; frames = 0 when it is not used.
+LandmarkTrajectories CalibrationLandmarks(const RetargetInputs& inputs, const TrackedTasks& tasks,
+                                          const RetargetOptions& options, std::vector<std::string>& notes) {
+  const MarkerData& capture = inputs.capture;
+  if (!inputs.map.has_calibration_stance || options.reference_time >= 0) return {};
+  if (capture.calibration_body_pose.empty()) {
+    notes.push_back("the robot map has a calibration stance, but the capture has no calibration frame "
+                    "(syn-ingest --drop-first-frame keeps a BVH's): the first complete frame is the reference");
+    return {};
+  }
+  MarkerData calibration;
+  calibration.rate_hz = capture.rate_hz;
+  calibration.time_s = {0.0};
+  calibration.labels = capture.labels;
+  calibration.points.assign(capture.labels.size() * 3, std::nan(""));
+  calibration.bodies = capture.bodies;
+  calibration.body_parents = capture.body_parents;
+  calibration.body_pose = capture.calibration_body_pose;
+  LandmarkTrajectories landmarks = ComputeLandmarks(calibration, inputs.marker_set, inputs.capture_path);
+  for (int64_t landmark : tasks.landmark) {
+    if (!SampleAt(landmarks, 0, landmark).valid) {
+      notes.push_back("landmark " + landmarks.names[static_cast<size_t>(landmark)] +
+                      " is missing in the calibration frame: the first complete frame is the reference");
+      return {};
+    }
+  }
+  return landmarks;
+}
+
+// One of the robot map's stances (joint -> q, others at the model's default) with the soles on the ground
+// (z = 0).
+Eigen::VectorXd GroundedStance(const Model& model, Workspace& workspace, const RobotMap& map,
+                               const std::map<std::string, double>& stance) {
   const auto joint_names = model.coordinateNames();
   Eigen::VectorXd q_ref = model.defaultQ();
-  for (const auto& [joint, value] : map.reference_stance) {
+  for (const auto& [joint, value] : stance) {
     const auto found = std::find(joint_names.begin(), joint_names.end(), joint);
     q_ref[found - joint_names.begin()] = value;
   }
@@ -555,7 +587,7 @@ nlohmann::json RetargetOptions::ToJson() const {
 std::string RetargetSummary::BriefReport() const {
   std::ostringstream out;
   out.precision(3);
-  out << frames << " frames, reference frame " << reference_frame << ", scale " << scale << "; median/p95 error "
+  out << frames << " frames, reference " << (reference_frame < 0 ? std::string("the calibration frame") : "frame " + std::to_string(reference_frame)) << ", scale " << scale << "; median/p95 error "
       << "P1 " << median_position_error[0] * 1000 << "/" << p95_position_error[0] * 1000 << " mm "
       << median_angle_error[0] * 180 / M_PI << "/" << p95_angle_error[0] * 180 / M_PI << " deg, "
       << "P2 " << median_position_error[1] * 1000 << "/" << p95_position_error[1] * 1000 << " mm "
@@ -601,25 +633,33 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   const int64_t frames = landmarks.frames;
   if (frames == 0) throw DataError(Location::InFile(inputs.capture_path), "the capture has no frames");
   const TrackedTasks tasks = SelectTasks(inputs, landmarks, options, report.notes);
-  const int64_t reference = FindReferenceFrame(inputs, landmarks, tasks, options);
-  report.reference_frame = reference;
+  // The landmarks at the reference stance: the capture's calibration frame, or a frame of the take.
+  const LandmarkTrajectories calibration = CalibrationLandmarks(inputs, tasks, options, report.notes);
+  const bool calibrated = calibration.frames > 0;
+  const LandmarkTrajectories& stance_landmarks = calibrated ? calibration : landmarks;
+  const int64_t reference = calibrated ? 0 : FindReferenceFrame(inputs, landmarks, tasks, options);
+  report.reference_frame = calibrated ? -1 : reference;
 
-  const Eigen::VectorXd q_ref = GroundedReferenceStance(model, workspace, inputs.map);
+  // q_ref: the robot in the pose the landmarks are measured from; the posture target is the map's
+  // reference stance either way.
+  const Eigen::VectorXd q_posture = GroundedStance(model, workspace, inputs.map, inputs.map.reference_stance);
+  const Eigen::VectorXd q_ref =
+      calibrated ? GroundedStance(model, workspace, inputs.map, inputs.map.calibration_stance) : q_posture;
   workspace.setQ(q_ref);
   std::vector<Eigen::Isometry3d> link_reference;
   for (const IkTask& task : tasks.ik) link_reference.push_back(workspace.findLinkPose(task.link));
-  const StanceAlignment alignment = AlignToRobot(landmarks, tasks, link_reference, reference, options, report.notes);
+  const StanceAlignment alignment = AlignToRobot(stance_landmarks, tasks, link_reference, reference, options, report.notes);
   report.heading_rad = alignment.heading_rad;
   report.scale = alignment.scale;
 
   std::vector<LandmarkSample> reference_samples;
-  for (int64_t landmark : tasks.landmark) reference_samples.push_back(SampleAt(landmarks, reference, landmark));
+  for (int64_t landmark : tasks.landmark) reference_samples.push_back(SampleAt(stance_landmarks, reference, landmark));
   const RobotMap& map = inputs.map;
   const double posture_weight =
       map.priority_weights[static_cast<size_t>(map.posture_priority - 1)] * map.posture_weight * options.posture_scale;
   FrameIkOptions ik_options;
   ik_options.function_tolerance = options.ik_function_tolerance;
-  FrameIk ik(model, tasks.ik, q_ref, posture_weight, ik_options);
+  FrameIk ik(model, tasks.ik, q_posture, posture_weight, ik_options);
 
   MotionData motion = EmptyMotion(model, inputs.capture, landmarks, tasks);
   std::vector<int64_t> bridged;

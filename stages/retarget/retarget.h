@@ -67,7 +67,7 @@ struct RetargetOptions {
 
 struct RetargetSummary {
   int64_t frames = 0;
-  int64_t reference_frame = 0;
+  int64_t reference_frame = 0;  // -1: the capture's calibration frame (RobotMap::stance_is_calibration_pose)
   double scale = 1.0;
   double heading_rad = 0.0;
   // Per priority level 1..3: median and 95th percentile of position (m) and angle (rad) errors.

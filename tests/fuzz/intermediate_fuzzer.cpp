@@ -30,7 +30,7 @@ const char* const kSchemas[] = {syn::kMarkersSchema, syn::kMotionSchema, syn::kS
 
 // What the readers open (common/*_file.cpp), and a few names they do not.
 const char* const kNames[] = {
-    "time", "points", "labels", "bodies", "body_parents", "body_pose", "analog", "analog_labels", "analog_units",
+    "time", "points", "labels", "bodies", "body_parents", "body_pose", "calibration_body_pose", "analog", "analog_labels", "analog_units",
     "computed_points", "computed_labels", "computed_kinds", "event_times", "event_labels", "event_contexts", "q", "u",
     "udot", "tau", "coordinate_names", "velocity_names", "landmark_names", "landmark_targets", "landmark_error",
     "analysis_time", "delta_p", "boundaries", "boundary_reasons", "style_names", "trial_names", "class_names",

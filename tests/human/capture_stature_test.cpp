@@ -1,4 +1,5 @@
-// The stature measured in a capture: the vertical extent of its markers and bodies at the first frame with data.
+// The stature measured in a capture: the vertical extent of its bodies in its calibration frame, else of its
+// markers and bodies at the first frame with data.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -31,6 +32,25 @@ TEST(CaptureStature, IsTheVerticalExtentAtTheFirstFrameWithData) {
   EXPECT_EQ(stature.frame, 1);
   // A body below every marker counts too.
   EXPECT_NEAR(StatureFromCapture(Capture(1.80, 0.05, -0.02), "x").height, 1.82, 1e-12);
+}
+
+// A calibration frame (standing straight, kept aside by syn-ingest) is measured instead of the take.
+TEST(CaptureStature, TheCalibrationFrameWinsOverTheTake) {
+  MarkerData capture = Capture(1.80, 0.05, 0.95);
+  capture.bodies = {"Hips", "Head"};
+  capture.body_pose = {kNaN, kNaN, kNaN, 1, 0, 0, 0, kNaN, kNaN, kNaN, 1, 0, 0, 0,
+                       0.0,  0.0,  0.95, 1, 0, 0, 0, 0.0,  0.0,  1.5,  1, 0, 0, 0};
+  capture.calibration_body_pose = {0.0, 0.0, 0.02, 1, 0, 0, 0, 0.0, 0.0, 1.86, 1, 0, 0, 0};
+  const CaptureStature stature = StatureFromCapture(capture, "walk.markers.h5");
+  EXPECT_NEAR(stature.height, 1.84, 1e-12);
+  EXPECT_EQ(stature.frame, -1);
+  capture.calibration_body_pose = {0.0, 0.0, 0.02, 1, 0, 0, 0, 0.0, 0.0, 18.6, 1, 0, 0, 0};
+  try {
+    (void)StatureFromCapture(capture, "cm.markers.h5");
+    FAIL() << "expected an error";
+  } catch (const DataError& error) {
+    EXPECT_NE(std::string(error.what()).find("calibration frame"), std::string::npos) << error.what();
+  }
 }
 
 TEST(CaptureStature, NoAdultExtentNamesFileAndFrame) {

@@ -93,6 +93,10 @@ Frame Time: 0.01
   EXPECT_LT((Position(b, 0, 1) - Eigen::Vector3d(-1, 0, 0)).norm(), 1e-12);
 }
 
+TEST(BvhReader, ImplausibleFrameCountIsAnError) {
+  EXPECT_THROW((void)ParseBvh(With(kTwoBones, "Frames: 2", "Frames: 1e300"), "huge.bvh", {}), DataError);
+}
+
 TEST(BvhReader, DropFirstFrame) {
   BvhOptions options;
   options.drop_first_frame = true;
@@ -100,6 +104,14 @@ TEST(BvhReader, DropFirstFrame) {
   ASSERT_EQ(data.frame_count(), 1);
   EXPECT_LT((Position(data, 0, 1) - Eigen::Vector3d(0, 10, 0)).norm(), 1e-12);
   EXPECT_DOUBLE_EQ(data.time_s[0], 0.0);
+  // The dropped frame is kept as the calibration stance: the same poses the kept first frame has.
+  const MarkerData kept = ParseBvh(kTwoBones, "two.bvh", {});
+  EXPECT_TRUE(kept.calibration_body_pose.empty());
+  ASSERT_EQ(data.calibration_body_pose.size(), kept.bodies.size() * 7);
+  for (size_t i = 0; i < data.calibration_body_pose.size(); ++i) {
+    EXPECT_DOUBLE_EQ(data.calibration_body_pose[i], kept.body_pose[i]) << i;
+  }
+  EXPECT_DOUBLE_EQ(data.calibration_body_pose[7 + 0], 11.0);  // the arm at root (1,2,3) + offset (10,0,0)
 }
 
 // cgspeed's 07_12 has a second reference frame, every channel zero, after the first: dropped as well;

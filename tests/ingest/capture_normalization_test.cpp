@@ -19,6 +19,7 @@ MarkerData YUpMillimetres() {
   data.bodies = {"hip"};
   data.body_parents = {""};
   data.body_pose = {10, 20, 30, 1, 0, 0, 0};  // identity orientation
+  data.calibration_body_pose = {10, 20, 30, 1, 0, 0, 0};
   data.length_unit_to_m = 0.001;
   data.up_axis = 'y';
   return data;
@@ -39,6 +40,8 @@ TEST(CaptureNormalization, YUpMillimetresBecomeZUpMetres) {
   EXPECT_NEAR((q * Eigen::Vector3d::UnitY() - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-12);
   // A proper rotation: handedness kept.
   EXPECT_NEAR(q.toRotationMatrix().determinant(), 1.0, 1e-12);
+  // The calibration stance is converted exactly as the take is.
+  for (size_t i = 0; i < 7; ++i) EXPECT_DOUBLE_EQ(data.calibration_body_pose[i], data.body_pose[i]) << i;
   EXPECT_EQ(data.up_axis, 'z');
   EXPECT_EQ(data.length_unit_to_m, 1.0);
 }
