@@ -313,13 +313,13 @@ MotionData EmptyMotion(const Model& model, const MarkerData& capture, const Land
 // frame tracked, for the refinement.
 void SolveFrames(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
                  const std::vector<LandmarkSample>& reference_samples, const std::vector<Eigen::Isometry3d>& link_reference,
-                 const StanceAlignment& alignment, const Eigen::VectorXd& q_ref, const RetargetOptions& options,
+                 const StanceAlignment& alignment, const Eigen::VectorXd& q_start, const RetargetOptions& options,
                  FrameIk& ik, MotionData& motion, std::vector<std::vector<IkTarget>>& frame_targets,
                  std::vector<int64_t>& bridged, RetargetSummary& report) {
-  const int64_t frames = landmarks.frames, nq = static_cast<int64_t>(q_ref.size());
+  const int64_t frames = landmarks.frames, nq = static_cast<int64_t>(q_start.size());
   std::vector<IkTarget> targets(tasks.size());
-  Eigen::VectorXd q = q_ref;
-  double last_solved_time = std::nan("");  // the first solve may travel from q_ref freely
+  Eigen::VectorXd q = q_start;
+  double last_solved_time = std::nan("");  // the first solve may travel from q_start freely
   for (int64_t t = 0; t < frames; ++t) {
     if (!FrameTargets(landmarks, tasks, reference_samples, link_reference, alignment, t, targets, motion)) {
       bridged.push_back(t);
@@ -330,7 +330,7 @@ void SolveFrames(const LandmarkTrajectories& landmarks, const TrackedTasks& task
                                                                : 0.0;
       FrameIkSummary solved = ik.solve(targets, q, step_time);
       report.mean_ik_iterations += solved.iterations;
-      // The first frame travels from the reference stance, far from its answer: solve it again from its
+      // The first frame travels from the start stance, far from its answer: solve it again from its
       // own result until it settles, or the next frames would finish the journey as a jump.
       for (int again = 0; !std::isfinite(last_solved_time) && again < 10; ++again) {
         ik.forgetHistory();
@@ -665,7 +665,8 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   std::vector<int64_t> bridged;
   std::vector<std::vector<IkTarget>> frame_targets(static_cast<size_t>(frames));
   const auto start = std::chrono::steady_clock::now();
-  SolveFrames(landmarks, tasks, reference_samples, link_reference, alignment, q_ref, options, ik, motion, frame_targets,
+  // The take starts from the posture stance: nearer its first frame than a calibration T-pose is.
+  SolveFrames(landmarks, tasks, reference_samples, link_reference, alignment, q_posture, options, ik, motion, frame_targets,
               bridged, report);
   report.ik_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   BridgeGaps(model, motion.time_s, bridged, options.max_bridge, inputs.capture_path, motion.q);
