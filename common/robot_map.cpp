@@ -97,6 +97,17 @@ class RobotMapParser {
         const auto* list = value.as_array();
         if (!list || list->size() != 3) fields_.fail(value, "priority_weights must list 3 numbers (levels 1..3)");
         for (size_t i = 0; i < 3; ++i) map.priority_weights[i] = fields_.number((*list)[i], "priority_weights");
+      } else if (name == "calibration_landmarks") {
+        const auto* list = value.as_array();
+        if (!list) fields_.fail(value, "calibration_landmarks must list landmark names");
+        for (const toml::node& element : *list) {
+          std::string landmark = fields_.text(element, "calibration_landmarks");
+          if (std::none_of(kLandmarkNames.begin(), kLandmarkNames.end(),
+                           [&](const char* known) { return landmark == known; })) {
+            fields_.fail(element, "unknown landmark '" + landmark + "' in calibration_landmarks");
+          }
+          map.calibration_landmarks.push_back(std::move(landmark));
+        }
       } else if (name == "task") {
         const auto* list = value.as_array();
         if (!list) fields_.fail(value, "tasks are written as [[task]] tables");
@@ -133,7 +144,7 @@ class RobotMapParser {
         }
       } else {
         fields_.fail(value, "unknown key '" + name +
-                                "' (expected robot, floating_base, priority_weights, [[task]], [posture], "
+                                "' (expected robot, floating_base, priority_weights, calibration_landmarks, [[task]], [posture], "
                                 "[reference_stance], [calibration_stance], [feet])");
       }
     }

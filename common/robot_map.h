@@ -54,6 +54,12 @@ struct RobotMap {
   // the posture target.
   std::map<std::string, double> calibration_stance;
   bool has_calibration_stance = false;
+  // The landmarks measured from the calibration frame (key `calibration_landmarks`; empty: every one). The
+  // others are measured from the take's first complete frame, carried into the calibration frame through the
+  // pelvis: for a robot that cannot take the calibration pose with every limb (G1's elbows do not straighten
+  // into a T-pose), the legs and trunk come from the T-pose and the arms from a frame whose arms hang as the
+  // robot's do.
+  std::vector<std::string> calibration_landmarks;
   std::vector<RobotFoot> feet;
 };
 

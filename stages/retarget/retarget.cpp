@@ -171,6 +171,37 @@ LandmarkTrajectories CalibrationLandmarks(const RetargetInputs& inputs, const Tr
   return landmarks;
 }
 
+// The reference samples of the landmarks the map does not measure from the calibration frame
+// (RobotMap::calibration_landmarks): their pose in the take's first complete frame, carried into the
+// calibration frame by the pelvis' motion between the two, so the body's translation and turn between them
+// cancel and only the limb's pose relative to the pelvis is taken from the take.
+void CarryFromTake(const RetargetInputs& inputs, const LandmarkTrajectories& landmarks,
+                   const LandmarkTrajectories& calibration, const TrackedTasks& tasks, const RetargetOptions& options,
+                   std::vector<LandmarkSample>& reference_samples, std::vector<std::string>& notes) {
+  const std::vector<std::string>& measured = inputs.map.calibration_landmarks;
+  if (measured.empty()) return;
+  const auto pelvis_at = std::find(landmarks.names.begin(), landmarks.names.end(), "pelvis");
+  const int64_t pelvis = pelvis_at - landmarks.names.begin();
+  const int64_t take_frame = FindReferenceFrame(inputs, landmarks, tasks, options);
+  const LandmarkSample pelvis_calibration = pelvis_at == landmarks.names.end() ? LandmarkSample{} : SampleAt(calibration, 0, pelvis);
+  const LandmarkSample pelvis_take = pelvis_at == landmarks.names.end() ? LandmarkSample{} : SampleAt(landmarks, take_frame, pelvis);
+  if (std::find(measured.begin(), measured.end(), "pelvis") == measured.end() || !pelvis_calibration.valid ||
+      !pelvis_take.valid || !pelvis_calibration.has_orientation || !pelvis_take.has_orientation) {
+    notes.push_back("calibration_landmarks need the pelvis, with its orientation, in both frames: every landmark is "
+                    "measured from the calibration frame");
+    return;
+  }
+  const Eigen::Quaterniond carry = pelvis_calibration.orientation * pelvis_take.orientation.conjugate();
+  for (size_t i = 0; i < tasks.size(); ++i) {
+    const std::string& name = landmarks.names[static_cast<size_t>(tasks.landmark[i])];
+    if (std::find(measured.begin(), measured.end(), name) != measured.end()) continue;
+    LandmarkSample sample = SampleAt(landmarks, take_frame, tasks.landmark[i]);
+    sample.position = pelvis_calibration.position + carry * (sample.position - pelvis_take.position);
+    if (sample.has_orientation) sample.orientation = carry * sample.orientation;
+    reference_samples[i] = sample;
+  }
+}
+
 // One of the robot map's stances (joint -> q, others at the model's default) with the soles on the ground
 // (z = 0).
 Eigen::VectorXd GroundedStance(const Model& model, Workspace& workspace, const RobotMap& map,
@@ -654,6 +685,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
 
   std::vector<LandmarkSample> reference_samples;
   for (int64_t landmark : tasks.landmark) reference_samples.push_back(SampleAt(stance_landmarks, reference, landmark));
+  if (calibrated) CarryFromTake(inputs, landmarks, calibration, tasks, options, reference_samples, report.notes);
   const RobotMap& map = inputs.map;
   const double posture_weight =
       map.priority_weights[static_cast<size_t>(map.posture_priority - 1)] * map.posture_weight * options.posture_scale;
