@@ -54,7 +54,7 @@ TEST_F(HumanCli, BadValuesAreUsageErrorsAndWriteNothing) {
 
 // Real data, end to end: the bundled CMU walk 02_01 on a human model at its capture's stature, retargeted and
 // evaluated as make power-ratio does. Human joint power in walking is of the order of 1 W/kg (Farris & Sawicki
-// 2012); the placeholder-inertia human URDF of the paper gave 72.6 W/kg here. Measured: 2.18 W/kg relative to
+// 2012); the placeholder-inertia human URDF of the paper gave 72.6 W/kg here. Measured: 2.19 W/kg relative to
 // the capture's T-pose calibration frame (3.18 relative to its first, mid-stride, frame).
 TEST_F(HumanCli, BundledWalkCostsTheHumanModelAFewWattsPerKilogram) {
   const std::string bin = testing::BinPath(""), walk = testing::SourcePath("datasets/demo/02_01.bvh");
