@@ -247,22 +247,60 @@ struct StanceAlignment {
   double scale = 1.0;
 };
 
+// A named landmark's position in a frame; false when the marker set has no such landmark or it is missing.
+bool LandmarkPosition(const LandmarkTrajectories& landmarks, const char* name, int64_t frame, Eigen::Vector3d* position) {
+  const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), name);
+  if (found == landmarks.names.end()) return false;
+  const LandmarkSample sample = SampleAt(landmarks, frame, found - landmarks.names.begin());
+  *position = sample.position;
+  return sample.valid;
+}
+
+// The body's right-to-left direction in a frame, from the feet and the elbows (zero when neither pair is there).
+Eigen::Vector3d BodyLeft(const LandmarkTrajectories& landmarks, int64_t frame) {
+  Eigen::Vector3d left = Eigen::Vector3d::Zero(), a, b;
+  for (const auto& [left_name, right_name] : {std::pair{"left_foot", "right_foot"}, {"left_elbow", "right_elbow"}}) {
+    if (LandmarkPosition(landmarks, left_name, frame, &a) && LandmarkPosition(landmarks, right_name, frame, &b)) left += a - b;
+  }
+  return left;
+}
+
+// The calibration frame turned about the vertical and moved horizontally so that the subject faces, and
+// stands, where the take starts (at `take_frame`): the take then begins near the reference stance instead of
+// a turn away from it (cgspeed's Daz-friendly CMU conversions record the T-pose facing elsewhere).
+void TurnCalibrationToTake(const LandmarkTrajectories& landmarks, int64_t take_frame, LandmarkTrajectories& calibration) {
+  const auto pelvis_at = std::find(landmarks.names.begin(), landmarks.names.end(), "pelvis");
+  if (pelvis_at == landmarks.names.end()) return;
+  const LandmarkSample pelvis_calibration = SampleAt(calibration, 0, pelvis_at - landmarks.names.begin());
+  const LandmarkSample pelvis_take = SampleAt(landmarks, take_frame, pelvis_at - landmarks.names.begin());
+  if (!pelvis_calibration.valid || !pelvis_take.valid || !pelvis_calibration.has_orientation ||
+      !pelvis_take.has_orientation) {
+    return;
+  }
+  // The pelvis' turn between the two frames, about the vertical: the yaw of the rotation nearest to it that
+  // turns about Z only. (The feet give no heading mid-stride, one ahead of the other.)
+  const Eigen::Matrix3d between = (pelvis_take.orientation * pelvis_calibration.orientation.conjugate()).toRotationMatrix();
+  const double yaw = std::atan2(between(1, 0) - between(0, 1), between(0, 0) + between(1, 1));
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+  Eigen::Vector3d shift = pelvis_take.position - turn * pelvis_calibration.position;
+  shift.z() = 0;
+  for (int64_t l = 0; l < calibration.count(); ++l) {
+    double* pose = &calibration.pose[static_cast<size_t>(l * 7)];
+    const Eigen::Vector3d position = turn * Eigen::Vector3d(pose[0], pose[1], pose[2]) + shift;
+    const Eigen::Quaterniond orientation = turn * Eigen::Quaterniond(pose[3], pose[4], pose[5], pose[6]);
+    pose[0] = position.x(), pose[1] = position.y(), pose[2] = position.z();
+    pose[3] = orientation.w(), pose[4] = orientation.x(), pose[5] = orientation.y(), pose[6] = orientation.z();
+  }
+}
+
 StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
                              const std::vector<Eigen::Isometry3d>& link_reference, int64_t reference,
                              const RetargetOptions& options, std::vector<std::string>& notes) {
-  auto landmark_position = [&](const char* name, int64_t frame, Eigen::Vector3d* position) {
-    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), name);
-    if (found == landmarks.names.end()) return false;
-    const LandmarkSample sample = SampleAt(landmarks, frame, found - landmarks.names.begin());
-    *position = sample.position;
-    return sample.valid;
+  const auto landmark_position = [&](const char* name, int64_t frame, Eigen::Vector3d* position) {
+    return LandmarkPosition(landmarks, name, frame, position);
   };
   StanceAlignment alignment;
-  Eigen::Vector3d left = Eigen::Vector3d::Zero(), a, b;
-  for (const auto& [left_name, right_name] : {std::pair{"left_foot", "right_foot"}, {"left_elbow", "right_elbow"}}) {
-    if (landmark_position(left_name, reference, &a) && landmark_position(right_name, reference, &b)) left += a - b;
-  }
-  alignment.heading = HeadingAlignment(left, &alignment.heading_rad);
+  alignment.heading = HeadingAlignment(BodyLeft(landmarks, reference), &alignment.heading_rad);
   if (options.scale > 0) {
     alignment.scale = options.scale;
     return alignment;
@@ -665,8 +703,9 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   if (frames == 0) throw DataError(Location::InFile(inputs.capture_path), "the capture has no frames");
   const TrackedTasks tasks = SelectTasks(inputs, landmarks, options, report.notes);
   // The landmarks at the reference stance: the capture's calibration frame, or a frame of the take.
-  const LandmarkTrajectories calibration = CalibrationLandmarks(inputs, tasks, options, report.notes);
+  LandmarkTrajectories calibration = CalibrationLandmarks(inputs, tasks, options, report.notes);
   const bool calibrated = calibration.frames > 0;
+  if (calibrated) TurnCalibrationToTake(landmarks, FindReferenceFrame(inputs, landmarks, tasks, options), calibration);
   const LandmarkTrajectories& stance_landmarks = calibrated ? calibration : landmarks;
   const int64_t reference = calibrated ? 0 : FindReferenceFrame(inputs, landmarks, tasks, options);
   report.reference_frame = calibrated ? -1 : reference;
