@@ -202,6 +202,22 @@ void CarryFromTake(const RetargetInputs& inputs, const LandmarkTrajectories& lan
   }
 }
 
+// The coordinate of q that moves the whole robot straight up (a free base's z, or the unactuated prismatic
+// joint of a virtual base chain such as HRP-4C's), found by raising it 1 m at q and watching `lowest_sole`;
+// -1 when there is none.
+template <typename LowestSole>
+int64_t VerticalCoordinate(const Model& model, const Eigen::VectorXd& q, const LowestSole& lowest_sole) {
+  if (model.hasFreeBase()) return 6;
+  const double lowest = lowest_sole(q);
+  for (const ModelJoint& joint : model.joints()) {
+    if (joint.type != "prismatic" || model.actuatedVelocities()[static_cast<size_t>(joint.u_index)]) continue;
+    Eigen::VectorXd raised = q;
+    raised[joint.q_index] += 1.0;
+    if (std::abs(lowest_sole(raised) - lowest - 1.0) < 1e-9) return joint.q_index;
+  }
+  return -1;
+}
+
 // One of the robot map's stances (joint -> q, others at the model's default) with the soles on the ground
 // (z = 0).
 Eigen::VectorXd GroundedStance(const Model& model, Workspace& workspace, const RobotMap& map,
@@ -223,20 +239,8 @@ Eigen::VectorXd GroundedStance(const Model& model, Workspace& workspace, const R
     return lowest;
   };
   const double lowest = lowest_sole(q_ref);
-  if (model.hasFreeBase()) {
-    q_ref[6] -= lowest;
-  } else {
-    // A virtual base chain (HRP-4C): lower the prismatic joint that moves the robot straight up.
-    for (const ModelJoint& joint : model.joints()) {
-      if (joint.type != "prismatic" || model.actuatedVelocities()[static_cast<size_t>(joint.u_index)]) continue;
-      Eigen::VectorXd raised = q_ref;
-      raised[joint.q_index] += 1.0;
-      if (std::abs(lowest_sole(raised) - lowest - 1.0) < 1e-9) {
-        q_ref[joint.q_index] -= lowest;
-        break;
-      }
-    }
-  }
+  const int64_t vertical = VerticalCoordinate(model, q_ref, lowest_sole);
+  if (vertical >= 0) q_ref[vertical] -= lowest;
   return q_ref;
 }
 
@@ -536,6 +540,49 @@ double SkatingRatio(const std::vector<std::vector<FootSample>>& feet, const std:
   return static_cast<double>(std::count(flags.begin(), flags.end(), 1)) / static_cast<double>(flags.size());
 }
 
+// Puts a motion measured from a calibration frame on the floor. That frame's heights are the converter's
+// rest pose, not the take's floor (CMU's T-poses stand some centimetres off it), so the whole motion and its
+// targets move straight down by the median height of the lowest planted sole point over the source's
+// contact frames. A vertical translation changes no joint angle, velocity or torque (no contact is modelled).
+void GroundOnPlantedSoles(const Model& model, Workspace& workspace, const RobotMap& map, const FootContacts& contacts,
+                          MotionData& motion, std::vector<std::vector<IkTarget>>& frame_targets,
+                          std::vector<std::string>& notes) {
+  const int64_t nq = model.nq(), frames = motion.frames();
+  std::vector<int> links;
+  for (const RobotFoot& foot : map.feet) links.push_back(model.findLinkIndex(foot.link));
+  const auto lowest_sole_of = [&](size_t f) { return SoleSample(map.feet[f], workspace.findLinkPose(links[f])).lowest_z; };
+  std::vector<double> planted;
+  Eigen::VectorXd q(nq);
+  for (int64_t t = 0; t < frames; ++t) {
+    bool any = false;
+    for (size_t f = 0; f < map.feet.size(); ++f) any = any || contacts.at(t, static_cast<int>(f));
+    if (!any) continue;
+    q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
+    workspace.setQ(q);
+    for (size_t f = 0; f < map.feet.size(); ++f) {
+      if (contacts.at(t, static_cast<int>(f))) planted.push_back(lowest_sole_of(f));
+    }
+  }
+  if (planted.empty()) return;
+  const double level = NearestRankPercentile(planted, 0.5);
+  q = Eigen::Map<const Eigen::VectorXd>(motion.q.data(), nq);
+  const int64_t vertical = VerticalCoordinate(model, q, [&](const Eigen::VectorXd& at) {
+    workspace.setQ(at);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (size_t f = 0; f < map.feet.size(); ++f) lowest = std::min(lowest, lowest_sole_of(f));
+    return lowest;
+  });
+  if (vertical < 0) return;
+  for (int64_t t = 0; t < frames; ++t) motion.q[static_cast<size_t>(t * nq + vertical)] -= level;
+  for (size_t i = 2; i < motion.landmark_targets.size(); i += 7) motion.landmark_targets[i] -= level;
+  for (std::vector<IkTarget>& targets : frame_targets) {
+    for (IkTarget& target : targets) target.position.z() -= level;
+  }
+  std::ostringstream note;
+  note << "measured from the calibration frame: moved " << -1000 * level << " mm vertically, onto the planted soles";
+  notes.push_back(note.str());
+}
+
 // What a user checks on the final motion, from the robot map's sole points: per source contact phase the
 // sole centre's largest horizontal distance from where the phase began (drift); the deepest sole point and
 // the share of frames with one more than 1 cm below the floor; GMD's foot-skating ratio of the robot beside
@@ -749,9 +796,13 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   RefineTrajectory(ik, model, frame_targets, motion.time_s, motion.q, refinement);
   report.refinement_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - refine_start).count();
 
+  const FootContacts contacts =
+      map.feet.empty() ? FootContacts{} : SourceContacts(map, landmarks, inputs.capture.time_s, options, report.notes);
+  if (calibrated && !map.feet.empty()) {
+    GroundOnPlantedSoles(model, workspace, map, contacts, motion, frame_targets, report.notes);
+  }
   MeasureLandmarkErrors(ik, tasks, frame_targets, model.nq(), motion, report);
   if (!map.feet.empty()) {
-    const FootContacts contacts = SourceContacts(map, landmarks, inputs.capture.time_s, options, report.notes);
     for (const RobotFoot& foot : map.feet) motion.contact_feet.push_back(foot.side), report.foot_sides.push_back(foot.side);
     motion.contact.assign(contacts.contact.begin(), contacts.contact.end());
     MeasureContacts(model, workspace, map, contacts, FootTasks(map, model, landmarks, tasks), motion, report);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <unistd.h>
 
@@ -14,7 +15,9 @@
 #include "common/markers_file.h"
 #include "stages/ingest/ingest.h"
 #include "stages/retarget/retarget.h"
+#include "common/percentile.h"
 #include "tests/support/demo_motion.h"
+#include "tests/support/independent_fk.h"
 #include "tests/support/shared_data.h"
 
 namespace syn {
@@ -89,6 +92,35 @@ TEST_F(CalibrationStance, WhereTheSubjectStoodForItDoesNotMatter) {
   for (size_t i = 0; i < a.q.size(); ++i) largest = std::max(largest, std::abs(a.q[i] - b.q[i]));
   EXPECT_LT(largest, 1e-6) << "joint or base coordinate differs by " << largest;
   EXPECT_NEAR(as_recorded.scale, moved.scale, 1e-12);
+}
+
+// The calibration frame's heights are the converter's rest pose, not the take's floor: the motion is moved
+// onto its planted soles. Checked with an FK written from the URDF alone: over the source's contact frames,
+// the median lowest point of the planted soles (G1's sole points from its map) is on the floor.
+TEST_F(CalibrationStance, PlantedSolesAreOnTheFloor) {
+  RetargetSummary summary;
+  const MotionData motion = Retarget(walk_, map_, &summary);
+  bool noted = false;
+  for (const std::string& note : summary.notes) noted = noted || note.find("onto the planted soles") != std::string::npos;
+  EXPECT_TRUE(noted);
+  const testing::IndependentFk fk(testing::SourcePath(testing::kG1Urdf));
+  const std::vector<Eigen::Vector3d> sole = {{-0.05, 0.025, -0.035}, {-0.05, -0.025, -0.035}, {0.12, 0.03, -0.035}, {0.12, -0.03, -0.035}};
+  const char* links[] = {"left_ankle_roll_link", "right_ankle_roll_link"};
+  ASSERT_EQ(motion.contact_feet.size(), 2u);
+  const size_t nq = motion.coordinate_names.size(), feet = motion.contact_feet.size();
+  std::vector<double> planted;
+  for (size_t t = 0; t < motion.time_s.size(); ++t) {
+    const auto poses = fk.poses(motion.coordinate_names, &motion.q[t * nq], true);
+    for (size_t f = 0; f < feet; ++f) {
+      if (!motion.contact[t * feet + f]) continue;
+      const size_t side = motion.contact_feet[f] == "left" ? 0 : 1;
+      double lowest = std::numeric_limits<double>::infinity();
+      for (const Eigen::Vector3d& point : sole) lowest = std::min(lowest, (poses.at(links[side]) * point).z());
+      planted.push_back(lowest);
+    }
+  }
+  ASSERT_GT(planted.size(), 100u);
+  EXPECT_NEAR(NearestRankPercentile(planted, 0.5), 0.0, 1e-3);
 }
 
 }  // namespace
