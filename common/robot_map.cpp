@@ -121,9 +121,8 @@ class RobotMapParser {
       } else if (name == "reference_stance" || name == "calibration_stance") {
         const auto* table = value.as_table();
         if (!table) fields_.fail(value, "[" + name + "] must map joint names to positions");
-        auto& stance = name == "reference_stance" ? map.reference_stance : map.calibration_stance;
+        auto& stance = name == "reference_stance" ? map.reference_stance : map.calibration_stance.emplace();
         for (const auto& [joint, position] : *table) stance[std::string(joint.str())] = fields_.number(position, "q");
-        map.has_calibration_stance = map.has_calibration_stance || name == "calibration_stance";
       } else if (name == "feet") {
         const auto* table = value.as_table();
         if (!table) fields_.fail(value, "[feet] must hold [feet.left] and [feet.right]");
@@ -175,12 +174,13 @@ void CheckRobotMapNames(const RobotMap& map, const std::function<bool(const std:
       throw DataError(Location::AtLine(map.file, foot.line), "foot link '" + foot.link + "' is not in " + model_name);
     }
   }
-  for (const auto* stance : {&map.reference_stance, &map.calibration_stance}) {
+  const std::map<std::string, double> no_stance;
+  for (const auto& [table, stance] : {std::pair{"reference_stance", &map.reference_stance},
+                                      std::pair{"calibration_stance", map.calibration_stance ? &*map.calibration_stance : &no_stance}}) {
     for (const auto& [joint, position] : *stance) {
       if (!has_joint(joint)) {
-        throw DataError(Location::InFile(map.file),
-                        std::string(stance == &map.reference_stance ? "reference_stance" : "calibration_stance") +
-                            " names joint '" + joint + "', which " + model_name + " does not have");
+        throw DataError(Location::InFile(map.file), std::string(table) + " names joint '" + joint + "', which " +
+                                                        model_name + " does not have");
       }
     }
   }

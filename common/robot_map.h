@@ -16,6 +16,7 @@
 #include <array>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,8 +53,7 @@ struct RobotMap {
   // the map has [calibration_stance] and a capture carries that frame (MarkerData::calibration_body_pose),
   // the capture is retargeted relative to it rather than to a frame of the take. reference_stance stays
   // the posture target.
-  std::map<std::string, double> calibration_stance;
-  bool has_calibration_stance = false;
+  std::optional<std::map<std::string, double>> calibration_stance;  // an empty table is the default pose
   std::vector<RobotFoot> feet;
 };
 

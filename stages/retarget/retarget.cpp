@@ -146,7 +146,7 @@ int64_t FindReferenceFrame(const RetargetInputs& inputs, const LandmarkTrajector
 LandmarkTrajectories CalibrationLandmarks(const RetargetInputs& inputs, const TrackedTasks& tasks,
                                           const RetargetOptions& options, std::vector<std::string>& notes) {
   const MarkerData& capture = inputs.capture;
-  if (!inputs.map.has_calibration_stance || options.reference_time >= 0) return {};
+  if (!inputs.map.calibration_stance || options.reference_time >= 0) return {};
   if (capture.calibration_body_pose.empty()) {
     notes.push_back("the robot map has a calibration stance, but the capture has no calibration frame "
                     "(syn-ingest --drop-first-frame keeps a BVH's): the first complete frame is the reference");
@@ -187,6 +187,17 @@ int64_t VerticalCoordinate(const Model& model, const Eigen::VectorXd& q, const L
   return -1;
 }
 
+// The height of the lowest sole point of the robot map's feet at q (sets the workspace to q).
+double LowestSolePoint(const Model& model, Workspace& workspace, const RobotMap& map, const Eigen::VectorXd& q) {
+  workspace.setQ(q);
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const RobotFoot& foot : map.feet) {
+    const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
+    for (const auto& point : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(point[0], point[1], point[2])).z());
+  }
+  return lowest;
+}
+
 // One of the robot map's stances (joint -> q, others at the model's default) with the soles on the ground
 // (z = 0).
 Eigen::VectorXd GroundedStance(const Model& model, Workspace& workspace, const RobotMap& map,
@@ -198,15 +209,7 @@ Eigen::VectorXd GroundedStance(const Model& model, Workspace& workspace, const R
     q_ref[found - joint_names.begin()] = value;
   }
   if (map.feet.empty()) return q_ref;
-  auto lowest_sole = [&](const Eigen::VectorXd& q) {
-    workspace.setQ(q);
-    double lowest = std::numeric_limits<double>::infinity();
-    for (const RobotFoot& foot : map.feet) {
-      const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
-      for (const auto& point : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(point[0], point[1], point[2])).z());
-    }
-    return lowest;
-  };
+  const auto lowest_sole = [&](const Eigen::VectorXd& q) { return LowestSolePoint(model, workspace, map, q); };
   const double lowest = lowest_sole(q_ref);
   const int64_t vertical = VerticalCoordinate(model, q_ref, lowest_sole);
   if (vertical >= 0) q_ref[vertical] -= lowest;
@@ -269,9 +272,6 @@ void TurnCalibrationToTake(const LandmarkTrajectories& landmarks, int64_t take_f
 StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
                              const std::vector<Eigen::Isometry3d>& link_reference, int64_t reference,
                              const RetargetOptions& options, std::vector<std::string>& notes) {
-  const auto landmark_position = [&](const char* name, int64_t frame, Eigen::Vector3d* position) {
-    return LandmarkPosition(landmarks, name, frame, position);
-  };
   StanceAlignment alignment;
   alignment.heading = HeadingAlignment(BodyLeft(landmarks, reference), &alignment.heading_rad);
   if (options.scale > 0) {
@@ -289,8 +289,8 @@ StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const Tracke
     }
     return feet ? head_z - feet_z / feet : std::nan("");
   };
-  if (landmark_position("head", reference, &head) && landmark_position("left_foot", reference, &left_foot) &&
-      landmark_position("right_foot", reference, &right_foot)) {
+  if (LandmarkPosition(landmarks, "head", reference, &head) && LandmarkPosition(landmarks, "left_foot", reference, &left_foot) &&
+      LandmarkPosition(landmarks, "right_foot", reference, &right_foot)) {
     const double subject = head.z() - 0.5 * (left_foot.z() + right_foot.z());
     const double robot = robot_height();
     if (subject > 0.3 && std::isfinite(robot) && robot > 0) alignment.scale = robot / subject;
@@ -521,6 +521,7 @@ void GroundOnPlantedSoles(const Model& model, Workspace& workspace, const RobotM
   for (const RobotFoot& foot : map.feet) links.push_back(model.findLinkIndex(foot.link));
   const auto lowest_sole_of = [&](size_t f) { return SoleSample(map.feet[f], workspace.findLinkPose(links[f])).lowest_z; };
   std::vector<double> planted;
+  planted.reserve(static_cast<size_t>(frames) * map.feet.size());
   Eigen::VectorXd q(nq);
   for (int64_t t = 0; t < frames; ++t) {
     bool any = false;
@@ -535,12 +536,8 @@ void GroundOnPlantedSoles(const Model& model, Workspace& workspace, const RobotM
   if (planted.empty()) return;
   const double level = NearestRankPercentile(planted, 0.5);
   q = Eigen::Map<const Eigen::VectorXd>(motion.q.data(), nq);
-  const int64_t vertical = VerticalCoordinate(model, q, [&](const Eigen::VectorXd& at) {
-    workspace.setQ(at);
-    double lowest = std::numeric_limits<double>::infinity();
-    for (size_t f = 0; f < map.feet.size(); ++f) lowest = std::min(lowest, lowest_sole_of(f));
-    return lowest;
-  });
+  const int64_t vertical =
+      VerticalCoordinate(model, q, [&](const Eigen::VectorXd& at) { return LowestSolePoint(model, workspace, map, at); });
   if (vertical < 0) return;
   for (int64_t t = 0; t < frames; ++t) motion.q[static_cast<size_t>(t * nq + vertical)] -= level;
   for (size_t i = 2; i < motion.landmark_targets.size(); i += 7) motion.landmark_targets[i] -= level;
@@ -721,16 +718,17 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   // The landmarks at the reference stance: the capture's calibration frame, or a frame of the take.
   LandmarkTrajectories calibration = CalibrationLandmarks(inputs, tasks, options, report.notes);
   const bool calibrated = calibration.frames > 0;
-  if (calibrated) TurnCalibrationToTake(landmarks, FindReferenceFrame(inputs, landmarks, tasks, options), calibration);
+  const int64_t take_reference = FindReferenceFrame(inputs, landmarks, tasks, options);
+  if (calibrated) TurnCalibrationToTake(landmarks, take_reference, calibration);
   const LandmarkTrajectories& stance_landmarks = calibrated ? calibration : landmarks;
-  const int64_t reference = calibrated ? 0 : FindReferenceFrame(inputs, landmarks, tasks, options);
+  const int64_t reference = calibrated ? 0 : take_reference;
   report.reference_frame = calibrated ? -1 : reference;
 
   // q_ref: the robot in the pose the landmarks are measured from; the posture target is the map's
   // reference stance either way.
   const Eigen::VectorXd q_posture = GroundedStance(model, workspace, inputs.map, inputs.map.reference_stance);
   const Eigen::VectorXd q_ref =
-      calibrated ? GroundedStance(model, workspace, inputs.map, inputs.map.calibration_stance) : q_posture;
+      calibrated ? GroundedStance(model, workspace, inputs.map, *inputs.map.calibration_stance) : q_posture;
   workspace.setQ(q_ref);
   std::vector<Eigen::Isometry3d> link_reference;
   for (const IkTask& task : tasks.ik) link_reference.push_back(workspace.findLinkPose(task.link));

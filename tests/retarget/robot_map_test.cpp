@@ -59,15 +59,15 @@ TEST(RobotMap, G1LinksExistInTheBundledUrdf) {
 
 TEST(RobotMap, CalibrationStanceIsASecondStance) {
   const RobotMap plain = ParseRobotMap("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n", "plain.toml");
-  EXPECT_FALSE(plain.has_calibration_stance);
+  EXPECT_FALSE(plain.calibration_stance.has_value());
   const RobotMap map = ParseRobotMap(
       "[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n[reference_stance]\nknee = 0.1\n"
       "[calibration_stance]\nleft_shoulder = -1.5\n",
       "t.toml");
-  EXPECT_TRUE(map.has_calibration_stance);
+  ASSERT_TRUE(map.calibration_stance.has_value());
   EXPECT_DOUBLE_EQ(map.reference_stance.at("knee"), 0.1);
-  EXPECT_DOUBLE_EQ(map.calibration_stance.at("left_shoulder"), -1.5);
-  EXPECT_EQ(map.calibration_stance.count("knee"), 0u);
+  EXPECT_DOUBLE_EQ(map.calibration_stance->at("left_shoulder"), -1.5);
+  EXPECT_EQ(map.calibration_stance->count("knee"), 0u);
   try {
     CheckRobotMapNames(map, [](const std::string&) { return true; },
                        [](const std::string& joint) { return joint == "knee"; }, "robot");
