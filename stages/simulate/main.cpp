@@ -47,7 +47,17 @@ int main(int argc, char** argv) {
   bool no_effort_limits = false;
   app.add_flag("--no-effort-limits", no_effort_limits,
                "Do not clamp joint torques to the URDF's effort limits (for diagnosis: what the limits cost)");
-  app.parse_complete_callback([&] { options.controller.effort_limits = !no_effort_limits; });
+  bool no_joint_limits = false;
+  app.add_flag("--no-joint-limits", no_joint_limits,
+               "Do not hold joints inside the URDF's position limits (for diagnosis: without them a straightening "
+               "knee can be carried onto its mirrored branch)");
+  app.add_option("--limit-frequency", options.controller.limit_frequency,
+                 "Natural frequency (rad/s) of the critically damped walls at the joints' position limits")
+      ->capture_default_str();
+  app.parse_complete_callback([&] {
+    options.controller.effort_limits = !no_effort_limits;
+    options.controller.joint_limits = !no_joint_limits;
+  });
   app.add_option("--targets", options.targets,
                  "kinematic: track the link poses of the retargeted q; landmarks: track the landmark targets "
                  "(velocity/acceleration feedforward from the retargeted q either way)")

@@ -24,6 +24,13 @@ void PrioritizedControl::calcTorques(Workspace& workspace, const std::vector<Pri
     const PriorityLevel& level = levels[k];
     SolvedLevel& solved = solved_[k];
     const Eigen::Index rows = level.jacobian.rows();
+    if (rows == 0) {  // an empty level (no joint limit active): nothing to solve, no projection
+      solved.projected.resize(0, nu);
+      solved.minv_jt.resize(nu, 0);
+      solved.inertia.resize(0, 0);
+      solved.rank = 0;
+      continue;
+    }
     // J_k| = J_k N_{<k} = J_k − Σ_j (J_k A⁻¹ J_j|ᵀ Λ_j) J_j|: the projectors of the levels above are
     // mutually A-orthogonal, so their product is this sum.
     solved.projected = level.jacobian;

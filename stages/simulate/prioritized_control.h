@@ -40,7 +40,9 @@ struct PriorityLevel {
 struct PrioritizedControlOptions {
   // Directions of the unit-diagonal Φ' = D J_k| A⁻¹ J_k|ᵀ D (see the .cpp) whose eigenvalue is below
   // this fraction of the largest are dropped from Λ_k's pseudo-inverse: a limb at a singularity then
-  // gets no force there instead of an unbounded one.
+  // gets no force there instead of an unbounded one, and the direction passes to the levels below
+  // (so the strict priority holds for the directions a level keeps). 1e-6: the textbook law up to
+  // rounding; syn-simulate uses 1e-2 (ControllerOptions).
   double singular_cutoff = 1e-6;
   // μ in F_k's damped inverse λ/(λ² + μ²) on Φ' (eigenvalues O(1)): directions with λ ≫ 1e-3 are
   // within (μ/λ)² of exact; a straightening knee's task inertia is capped at 1/(2μ) in Φ' units.

@@ -56,6 +56,9 @@ bool SimulateOptions::IsValid(std::string* error) const {
   if (!(controller.kv >= 0) || !std::isfinite(controller.kv)) return fail("--kv must be >= 0, got " + std::to_string(controller.kv));
   const double cutoff = controller.hierarchy.singular_cutoff;
   if (!(cutoff > 0 && cutoff < 1)) return fail("--singular-cutoff must be in (0, 1), got " + std::to_string(cutoff));
+  if (!(controller.limit_frequency > 0 && controller.limit_frequency <= 1e4)) {
+    return fail("--limit-frequency must be in (0, 10000] rad/s, got " + std::to_string(controller.limit_frequency));
+  }
   const double damping = controller.hierarchy.damping;
   if (!(damping >= 0 && damping < 1)) return fail("--damping must be in [0, 1), got " + std::to_string(damping));
   return true;
@@ -68,6 +71,8 @@ nlohmann::json SimulateOptions::ToJson() const {
           {"singular_cutoff", controller.hierarchy.singular_cutoff},
           {"damping", controller.hierarchy.damping},
           {"no_effort_limits", !controller.effort_limits},
+          {"no_joint_limits", !controller.joint_limits},
+          {"limit_frequency", controller.limit_frequency},
           {"contact", std::string(ContactModeName(contact))},
           {"targets", std::string(TargetSourceName(targets))},
           {"integrator", std::string(IntegratorName(integrator))}};
@@ -78,7 +83,8 @@ std::string SimulateSummary::BriefReport() const {
   out.precision(3);
   out << frames << " frames, " << steps << " steps; joint RMS to the kinematic motion " << joint_rms_deg << " deg (max "
       << joint_max_deg << "); priority-1 RMS " << p1_position_rms_m * 1000 << " mm, " << p1_angle_rms_deg
-      << " deg; torque limit hit in " << saturated_steps << " steps";
+      << " deg; torque limit hit in " << saturated_steps << " steps, a joint-limit wall active in " << limited_steps
+      << " steps";
   return out.str();
 }
 
@@ -132,7 +138,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   Eigen::VectorXd tau(nu), udot(nu);
   std::vector<TaskReference> task_references;
   PostureReference posture;
-  summary.steps = summary.saturated_steps = summary.saturated_entries = 0;
+  summary.steps = summary.saturated_steps = summary.saturated_entries = summary.limited_steps = 0;
   double joint_sq = 0, joint_max = 0, p1_position_sq = 0, p1_angle_sq = 0;
   int64_t joint_count = 0, p1_position_count = 0, p1_angle_count = 0;
   const auto control = [&](int64_t frame, double fraction) {
@@ -142,6 +148,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     const int saturated = controller.calcTorques(workspace, task_references, posture, tau);
     summary.saturated_entries += saturated;
     summary.saturated_steps += saturated > 0 ? 1 : 0;
+    summary.limited_steps += controller.activeLimitCount() > 0 ? 1 : 0;
     workspace.calcForwardDynamics(tau, udot);
   };
   for (int64_t t = 0; t < frames; ++t) {

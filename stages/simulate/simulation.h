@@ -43,6 +43,7 @@ struct SimulateSummary {
   int64_t steps = -1;
   int64_t saturated_steps = -1;    // steps where at least one joint hit its effort limit
   int64_t saturated_entries = -1;  // joint-steps at the limit
+  int64_t limited_steps = -1;      // control evaluations where a joint-limit wall was active
   double joint_rms_deg = -1;       // RMS over frames and joints of q_sim − q_kinematic (deg)
   double joint_max_deg = -1;       // the largest |q_sim − q_kinematic| (deg)
   double p1_position_rms_m = -1;   // priority-1 tasks' position error to the references tracked (m)

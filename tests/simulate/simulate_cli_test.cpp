@@ -47,7 +47,8 @@ TEST(SimulateCli, PrintParametersGivesEveryFlag) {
   ASSERT_EQ(result.exit_code, 0);
   EXPECT_EQ(result.output,
             "{\"contact\":\"none\",\"damping\":0.001,\"floating_base\":\"auto\",\"integrator\":\"euler\",\"kp\":300.0,"
-            "\"kv\":25.0,\"no_effort_limits\":true,\"rate\":1000.0,\"singular_cutoff\":1e-06,\"targets\":\"kinematic\"}\n");
+            "\"kv\":25.0,\"limit_frequency\":100.0,\"no_effort_limits\":true,\"no_joint_limits\":false,\"rate\":1000.0,"
+            "\"singular_cutoff\":0.01,\"targets\":\"kinematic\"}\n");
 }
 
 }  // namespace

@@ -54,9 +54,10 @@ TEST(Simulate, KineticEnergyConservedWithoutControlGravityOrContact) {
 }
 
 // The paper's mode on a real retargeted CMU walk. Without torque limits the controller reproduces the
-// kinematic mapping within 3° RMS. With G1's URDF limits it cannot: the kinematic walk itself needs up to
-// 107 N·m at the waist roll and 134 N·m at the waist pitch (their limit: 50), so the torso lags while they
-// clip; the test pins down that this is reported and stays bounded.
+// kinematic mapping within 3° RMS, and the knees stay on their side of the straight-leg limit (without
+// the walls the right knee was carried 50° onto the mirrored branch). With G1's URDF limits the kinematic
+// walk itself needs up to 107 N·m at the waist roll and 134 N·m at the waist pitch (their limit: 50), so
+// the torso lags while they clip; the other joints are re-solved around them (2.3° here, was 18°).
 TEST(Simulate, PaperModeReproducesKinematicWalk) {
   const MotionData& walk = DemoMotionOnG1("02_01");
   const Model model = Model::Load(SourcePath(testing::kG1Urdf));
@@ -68,6 +69,13 @@ TEST(Simulate, PaperModeReproducesKinematicWalk) {
   EXPECT_LE(result.summary.joint_rms_deg, 3.0);
   EXPECT_LT(result.summary.p1_position_rms_m, 0.002);
   EXPECT_EQ(result.summary.saturated_steps, 0);
+  for (const ModelJoint& joint : model.joints()) {
+    if (joint.name.find("knee") == std::string::npos) continue;
+    for (int64_t t = 0; t < result.motion.frames(); ++t) {
+      const double angle = result.motion.q[static_cast<size_t>(t * model.nq() + joint.q_index)];
+      ASSERT_GT(angle, model.qLower()[joint.q_index] - 0.01) << joint.name << " frame " << t;
+    }
+  }
   ASSERT_EQ(result.motion.frames(), walk.frames());
   EXPECT_EQ(result.motion.time_s, walk.time_s);
   // The output is the simulation: its first frame is the input's state, and later frames differ.
@@ -85,7 +93,7 @@ TEST(Simulate, PaperModeReproducesKinematicWalk) {
   const SimulationResult limited = Simulate(walk, "02_01", model, map, SimulateOptions{});
   std::cout << "URDF effort limits: " << limited.summary.FullReport() << "\n";
   EXPECT_GT(limited.summary.saturated_steps, 0);
-  EXPECT_LT(limited.summary.joint_rms_deg, 30.0);
+  EXPECT_LT(limited.summary.joint_rms_deg, 5.0);
   for (double tau : limited.motion.tau) ASSERT_TRUE(std::isfinite(tau));
 }
 
