@@ -486,6 +486,31 @@ std::vector<int> FootTasks(const RobotMap& map, const Model& model, const Landma
   return foot_task;
 }
 
+// Each robot foot's landmark target per frame (contact_enforcement.h's source_feet; a foot with no task
+// gives NaN poses, so its tracked pose stands).
+std::vector<std::vector<Eigen::Isometry3d>> SourceFootPoses(const MotionData& motion, const std::vector<int>& foot_tasks) {
+  const size_t task_count = motion.landmark_names.size();
+  std::vector<std::vector<Eigen::Isometry3d>> poses(foot_tasks.size());
+  for (size_t f = 0; f < foot_tasks.size(); ++f) {
+    poses[f].assign(static_cast<size_t>(motion.frames()), Eigen::Isometry3d::Identity());
+    for (int64_t t = 0; t < motion.frames(); ++t) {
+      Eigen::Isometry3d& pose = poses[f][static_cast<size_t>(t)];
+      if (foot_tasks[f] < 0) {
+        pose.translation().setConstant(std::nan(""));
+        continue;
+      }
+      const double* target = &motion.landmark_targets[(static_cast<size_t>(t) * task_count + static_cast<size_t>(foot_tasks[f])) * 7];
+      pose.translation() = Eigen::Vector3d(target[0], target[1], target[2]);
+      if (std::isfinite(target[3])) {
+        pose.linear() = Eigen::Quaterniond(target[3], target[4], target[5], target[6]).normalized().toRotationMatrix();
+      } else {
+        pose.linear()(0, 0) = std::nan("");
+      }
+    }
+  }
+  return poses;
+}
+
 // One foot's sole in a pose: the centre of its sole points and the lowest one's height.
 FootSample SoleSample(const RobotFoot& foot, const Eigen::Isometry3d& pose) {
   FootSample sample;
@@ -653,7 +678,7 @@ bool RetargetOptions::IsValid(std::string* error) const {
   if (max_bridge < 0) return fail("--max-bridge must be >= 0");
   if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
   if (!(ik_function_tolerance > 0 && ik_function_tolerance < 1)) return fail("--ik-function-tolerance must be in (0, 1)");
-  return contact.IsValid(error);
+  return contact.IsValid(error) && enforcement.IsValid(error);
 }
 
 nlohmann::json RetargetOptions::ToJson() const {
@@ -663,7 +688,9 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"scale", scale_json}, {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale},
           {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance},
           {"contact_height", contact.height}, {"contact_speed", contact.speed}, {"contact_release", contact.release},
-          {"contact_min_duration", contact.min_duration}};
+          {"contact_min_duration", contact.min_duration}, {"enforce_contacts", enforce_contacts},
+          {"contact_blend", enforcement.blend}, {"stance_knee", enforcement.stance_knee},
+          {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -682,6 +709,13 @@ std::string RetargetSummary::BriefReport() const {
         << p95_drift * 1000 << "/" << max_drift * 1000 << " mm; deepest sole point " << deepest_penetration * 1000
         << " mm below the floor, " << penetrating_fraction * 100 << " % of frames more than 1 cm below; foot skating "
         << foot_skating << " (source " << source_foot_skating << ")";
+    if (contacts_enforced) {
+      out << "; contacts enforced: " << enforcement.solved_frames << " frames' legs re-solved ("
+          << enforcement.mean_iterations << " iterations), base lowered up to " << enforcement.max_lowering * 1000
+          << " mm (" << enforcement.lowered_frames << " frames), " << enforcement.unreachable_frames
+          << " frames out of reach, worst foot error " << enforcement.worst_position_error * 1000 << " mm / "
+          << enforcement.worst_angle_error * 180 / M_PI << " deg";
+    }
   }
   return out.str();
 }
@@ -766,6 +800,16 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
       map.feet.empty() ? FootContacts{} : SourceContacts(map, landmarks, inputs.capture.time_s, options, report.notes);
   if (calibrated && !map.feet.empty()) {
     GroundOnPlantedSoles(model, workspace, map, contacts, motion, frame_targets, report.notes);
+  }
+  if (options.enforce_contacts && !map.feet.empty()) {
+    const Eigen::VectorXd q_first = Eigen::Map<const Eigen::VectorXd>(motion.q.data(), model.nq());
+    const int64_t vertical = VerticalCoordinate(
+        model, q_first, [&](const Eigen::VectorXd& at) { return LowestSolePoint(model, workspace, map, at); });
+    const auto enforce_start = std::chrono::steady_clock::now();
+    EnforceContacts(model, workspace, map.feet, contacts, SourceFootPoses(motion, FootTasks(map, model, landmarks, tasks)),
+                    vertical, motion.time_s, map.file, options.enforcement, motion.q, &report.enforcement);
+    report.refinement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - enforce_start).count();
+    report.contacts_enforced = true;
   }
   MeasureLandmarkErrors(ik, tasks, frame_targets, model.nq(), motion, report);
   if (!map.feet.empty()) {
