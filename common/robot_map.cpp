@@ -118,10 +118,12 @@ class RobotMapParser {
           else if (posture_key == "priority") map.posture_priority = priority(posture_value);
           else fields_.fail(posture_value, "unknown posture key (expected weight, priority)");
         }
-      } else if (name == "reference_stance" || name == "calibration_stance") {
+      } else if (name == "reference_stance" || name == "calibration_stance" || name == "posture_target") {
         const auto* table = value.as_table();
         if (!table) fields_.fail(value, "[" + name + "] must map joint names to positions");
-        auto& stance = name == "reference_stance" ? map.reference_stance : map.calibration_stance.emplace();
+        auto& stance = name == "reference_stance" ? map.reference_stance
+                       : name == "posture_target" ? map.posture_target
+                                                  : map.calibration_stance.emplace();
         for (const auto& [joint, position] : *table) stance[std::string(joint.str())] = fields_.number(position, "q");
       } else if (name == "feet") {
         const auto* table = value.as_table();
@@ -133,7 +135,7 @@ class RobotMapParser {
       } else {
         fields_.fail(value, "unknown key '" + name +
                                 "' (expected robot, floating_base, priority_weights, [[task]], [posture], "
-                                "[reference_stance], [calibration_stance], [feet])");
+                                "[reference_stance], [calibration_stance], [posture_target], [feet])");
       }
     }
     if (map.tasks.empty()) fields_.fail(1, "the robot map has no [[task]]");
@@ -176,7 +178,8 @@ void CheckRobotMapNames(const RobotMap& map, const std::function<bool(const std:
   }
   const std::map<std::string, double> no_stance;
   for (const auto& [table, stance] : {std::pair{"reference_stance", &map.reference_stance},
-                                      std::pair{"calibration_stance", map.calibration_stance ? &*map.calibration_stance : &no_stance}}) {
+                                      std::pair{"calibration_stance", map.calibration_stance ? &*map.calibration_stance : &no_stance},
+                                      std::pair{"posture_target", &map.posture_target}}) {
     for (const auto& [joint, position] : *stance) {
       if (!has_joint(joint)) {
         throw DataError(Location::InFile(map.file), std::string(table) + " names joint '" + joint + "', which " +

@@ -54,6 +54,11 @@ struct RobotMap {
   // the capture is retargeted relative to it rather than to a frame of the take. reference_stance stays
   // the posture target.
   std::optional<std::map<std::string, double>> calibration_stance;  // an empty table is the default pose
+  // The posture task's target and the IK's first warm start where they differ from the reference stance
+  // (joint -> q). From a straight reference the tracking tasks cannot tell a knee bent +θ from −θ, and one
+  // that starts backwards ends on its lower limit; a slightly flexed knee here keeps it bending forward.
+  // The reference stance stays the pose the capture's reference frame is matched to.
+  std::map<std::string, double> posture_target;
   std::vector<RobotFoot> feet;
 };
 

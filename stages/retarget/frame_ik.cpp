@@ -6,6 +6,7 @@
 #include <ceres/ceres.h>
 
 #include "common/configuration_space.h"
+#include "stages/retarget/branch_joints.h"
 
 namespace syn {
 namespace {
@@ -159,7 +160,9 @@ struct FrameIk::Impl {
   FrameIkOptions options;
   int first_joint = 0, q_offset = 0;
   Eigen::VectorXd delta;
-  Eigen::VectorXd lower, upper;              // joint limits per u index (±inf for the base)
+  Eigen::VectorXd lower, upper;              // joint limits per u index (±inf for the base); branch joints >= 0
+  std::vector<int> branch_joints;            // u indexes of branch_joints.h's joints
+  Eigen::VectorXd retry_start, retry_last_step, best_q, best_step;  // scratch of FrameIk::solve's branch retry
   Eigen::VectorXd step_lower, step_upper;    // this frame's bounds on δ
   TrackingCost* cost = nullptr;              // owned by problem
   ceres::Problem problem;
@@ -194,6 +197,11 @@ struct FrameIk::Impl {
     for (int u = first_joint; u < model.nu(); ++u) {
       lower[u] = model.qLower()[u + q_offset];
       upper[u] = model.qUpper()[u + q_offset];
+    }
+    for (const ModelJoint& joint : model.joints()) {
+      if (joint.u_index < first_joint || !IsBranchJoint(joint.type == "revolute", lower[joint.u_index], upper[joint.u_index])) continue;
+      lower[joint.u_index] = 0.0;
+      branch_joints.push_back(joint.u_index);
     }
     step_lower = lower, step_upper = upper;
     held_mask.assign(static_cast<size_t>(model.nu()), 0);
@@ -271,8 +279,9 @@ FrameIk::FrameIk(const Model& model, std::vector<IkTask> tasks, const Eigen::Vec
 
 FrameIk::~FrameIk() = default;
 
-FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
-  Impl& impl = *impl_;
+namespace {
+
+FrameIkSummary SolveOnce(FrameIk::Impl& impl, const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
   impl.delta.setZero();
   // Bounds are relative to the warm start; keep the start itself feasible.
   for (int u = impl.first_joint; u < impl.model.nu(); ++u) {
@@ -337,6 +346,36 @@ FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::Vecto
   result.final_cost = summary.final_cost;
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   return result;
+}
+
+}  // namespace
+
+// A solve that leaves a branch joint on its zero floor may have reached it from the wrong side (a
+// straightening leg carried into the mirrored solution, then held by the floor): it is solved again with
+// those joints started at kBranchStart, and the cheaper answer kept.
+FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
+  Impl& impl = *impl_;
+  if (impl.branch_joints.empty()) return SolveOnce(impl, targets, q, step_time);
+  impl.retry_start = q;
+  impl.retry_last_step = impl.last_step;
+  const bool had_last_step = impl.has_last_step;
+  FrameIkSummary first = SolveOnce(impl, targets, q, step_time);
+  bool on_floor = false;
+  for (int u : impl.branch_joints) on_floor = on_floor || q[u + impl.q_offset] <= impl.lower[u] + 1e-6;
+  if (!on_floor) return first;
+  impl.best_q = q;
+  impl.best_step = impl.last_step;
+  q = impl.retry_start;
+  impl.last_step = impl.retry_last_step;
+  impl.has_last_step = had_last_step;
+  for (int u : impl.branch_joints) q[u + impl.q_offset] = std::max(q[u + impl.q_offset], kBranchStart);
+  FrameIkSummary second = SolveOnce(impl, targets, q, step_time);
+  second.iterations += first.iterations;
+  if (second.final_cost < first.final_cost) return second;
+  q = impl.best_q;
+  impl.last_step = impl.best_step;
+  first.iterations = second.iterations;
+  return first;
 }
 
 void FrameIk::forgetHistory() { impl_->has_last_step = false; }

@@ -96,8 +96,9 @@ class FrameIk {
   void measureErrors(const std::vector<IkTarget>& targets, const Eigen::VectorXd& q, std::vector<double>& position_error,
                      std::vector<double>& angle_error);
 
+ struct Impl;
+
  private:
-  struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
                  "Per-frame IK: stop when an iteration changes the cost by less than this fraction")
       ->capture_default_str();
   app.add_option("--contact-height", options.contact.height,
-                 "Contact detection (reported, not yet enforced): a source foot is planted below this height (m, capture "
+                 "Contact detection: a source foot is planted below this height (m, capture "
                  "units) above the capture's ground (a low percentile of the foot landmarks' heights); 0.05 = GMD's "
                  "foot-skating contact height")
       ->capture_default_str();
@@ -74,6 +74,23 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--contact-min-duration", options.contact.min_duration,
                  "Contact phases shorter than this (s) are dropped (0.1 s: the shortest human stance, sprinting)")
+      ->capture_default_str();
+  app.add_option("--enforce-contacts", options.enforce_contacts,
+                 "Make the source's contacts exact, above every task: planted soles flat on z = 0 and still, no sole "
+                 "point below the floor, the base lowered where a planted leg cannot reach (false: measured only)")
+      ->capture_default_str();
+  app.add_option("--contact-blend", options.enforcement.blend,
+                 "Outside a contact phase the planted correction fades over this time (s)")
+      ->capture_default_str();
+  app.add_option("--stance-knee", options.enforcement.stance_knee,
+                 "A corrected leg keeps its knee bent at least this much (rad); where the foot is then out of reach, "
+                 "the base is lowered")
+      ->capture_default_str();
+  app.add_option("--max-lowering", options.enforcement.max_lowering,
+                 "The base is lowered by at most this fraction of the leg")
+      ->capture_default_str();
+  app.add_option("--lowering-smoothing", options.enforcement.lowering_smoothing,
+                 "Half-width (s) of the smoothing of the base lowering (never below what reach needs)")
       ->capture_default_str();
   app.add_option("--max-bridge", options.max_bridge,
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")

@@ -241,6 +241,35 @@ Eigen::Vector3d BodyLeft(const LandmarkTrajectories& landmarks, int64_t frame) {
   return left;
 }
 
+// The subject's left at the reference frame. A frame chosen for its landmarks (no --reference-time) is
+// usually mid-motion: mid-stride the feet's left-right vector is turned by the stride, up to 45° on a CMU
+// walk, and the robot then walked crabwise (02_01: 40° between where it faced and where it went). With a
+// pelvis orientation, the left is instead the pelvis frame's axis nearest to the feet's and elbows'
+// left-right vectors averaged over the whole capture in the pelvis frame, taken at the reference frame; the
+// axis is snapped (marker-set and BVH pelvis frames have one pointing left) so an asymmetric motion (a
+// lunge, a turn) cannot bias it.
+Eigen::Vector3d SubjectLeft(const LandmarkTrajectories& landmarks, int64_t reference, const RetargetOptions& options) {
+  const Eigen::Vector3d at_reference = BodyLeft(landmarks, reference);
+  const auto pelvis = std::find(landmarks.names.begin(), landmarks.names.end(), "pelvis");
+  if (options.reference_time >= 0 || pelvis == landmarks.names.end()) return at_reference;
+  const int64_t pelvis_index = pelvis - landmarks.names.begin();
+  const LandmarkSample pelvis_at_reference = SampleAt(landmarks, reference, pelvis_index);
+  if (!pelvis_at_reference.valid || !pelvis_at_reference.has_orientation) return at_reference;
+  Eigen::Vector3d mean_left = Eigen::Vector3d::Zero();
+  for (int64_t t = 0; t < landmarks.frames; ++t) {
+    const LandmarkSample pelvis_sample = SampleAt(landmarks, t, pelvis_index);
+    const Eigen::Vector3d left = BodyLeft(landmarks, t);
+    if (!pelvis_sample.valid || !pelvis_sample.has_orientation || left.norm() < 1e-6) continue;
+    mean_left += pelvis_sample.orientation.conjugate() * left.normalized();
+  }
+  if (mean_left.norm() < 1e-6) return at_reference;
+  Eigen::Index axis = 0;
+  mean_left.cwiseAbs().maxCoeff(&axis);
+  Eigen::Vector3d pelvis_left = Eigen::Vector3d::Zero();
+  pelvis_left[axis] = mean_left[axis] > 0 ? 1.0 : -1.0;
+  return pelvis_at_reference.orientation * pelvis_left;
+}
+
 // The calibration frame turned about the vertical and moved horizontally so that the subject faces, and
 // stands, where the take starts (at `take_frame`): the take then begins near the reference stance instead of
 // a turn away from it (cgspeed's Daz-friendly CMU conversions record the T-pose facing elsewhere).
@@ -273,7 +302,7 @@ StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const Tracke
                              const std::vector<Eigen::Isometry3d>& link_reference, int64_t reference,
                              const RetargetOptions& options, std::vector<std::string>& notes) {
   StanceAlignment alignment;
-  alignment.heading = HeadingAlignment(BodyLeft(landmarks, reference), &alignment.heading_rad);
+  alignment.heading = HeadingAlignment(SubjectLeft(landmarks, reference, options), &alignment.heading_rad);
   if (options.scale > 0) {
     alignment.scale = options.scale;
     return alignment;
@@ -486,6 +515,31 @@ std::vector<int> FootTasks(const RobotMap& map, const Model& model, const Landma
   return foot_task;
 }
 
+// Each robot foot's landmark target per frame (contact_enforcement.h's source_feet; a foot with no task
+// gives NaN poses, so its tracked pose stands).
+std::vector<std::vector<Eigen::Isometry3d>> SourceFootPoses(const MotionData& motion, const std::vector<int>& foot_tasks) {
+  const size_t task_count = motion.landmark_names.size();
+  std::vector<std::vector<Eigen::Isometry3d>> poses(foot_tasks.size());
+  for (size_t f = 0; f < foot_tasks.size(); ++f) {
+    poses[f].assign(static_cast<size_t>(motion.frames()), Eigen::Isometry3d::Identity());
+    for (int64_t t = 0; t < motion.frames(); ++t) {
+      Eigen::Isometry3d& pose = poses[f][static_cast<size_t>(t)];
+      if (foot_tasks[f] < 0) {
+        pose.translation().setConstant(std::nan(""));
+        continue;
+      }
+      const double* target = &motion.landmark_targets[(static_cast<size_t>(t) * task_count + static_cast<size_t>(foot_tasks[f])) * 7];
+      pose.translation() = Eigen::Vector3d(target[0], target[1], target[2]);
+      if (std::isfinite(target[3])) {
+        pose.linear() = Eigen::Quaterniond(target[3], target[4], target[5], target[6]).normalized().toRotationMatrix();
+      } else {
+        pose.linear()(0, 0) = std::nan("");
+      }
+    }
+  }
+  return poses;
+}
+
 // One foot's sole in a pose: the centre of its sole points and the lowest one's height.
 FootSample SoleSample(const RobotFoot& foot, const Eigen::Isometry3d& pose) {
   FootSample sample;
@@ -653,7 +707,7 @@ bool RetargetOptions::IsValid(std::string* error) const {
   if (max_bridge < 0) return fail("--max-bridge must be >= 0");
   if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
   if (!(ik_function_tolerance > 0 && ik_function_tolerance < 1)) return fail("--ik-function-tolerance must be in (0, 1)");
-  return contact.IsValid(error);
+  return contact.IsValid(error) && enforcement.IsValid(error);
 }
 
 nlohmann::json RetargetOptions::ToJson() const {
@@ -663,7 +717,9 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"scale", scale_json}, {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale},
           {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance},
           {"contact_height", contact.height}, {"contact_speed", contact.speed}, {"contact_release", contact.release},
-          {"contact_min_duration", contact.min_duration}};
+          {"contact_min_duration", contact.min_duration}, {"enforce_contacts", enforce_contacts},
+          {"contact_blend", enforcement.blend}, {"stance_knee", enforcement.stance_knee},
+          {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -682,6 +738,13 @@ std::string RetargetSummary::BriefReport() const {
         << p95_drift * 1000 << "/" << max_drift * 1000 << " mm; deepest sole point " << deepest_penetration * 1000
         << " mm below the floor, " << penetrating_fraction * 100 << " % of frames more than 1 cm below; foot skating "
         << foot_skating << " (source " << source_foot_skating << ")";
+    if (contacts_enforced) {
+      out << "; contacts enforced: " << enforcement.solved_frames << " frames' legs re-solved ("
+          << enforcement.mean_iterations << " iterations), base lowered up to " << enforcement.max_lowering * 1000
+          << " mm (" << enforcement.lowered_frames << " frames), " << enforcement.unreachable_frames
+          << " frames out of reach, worst foot error " << enforcement.worst_position_error * 1000 << " mm / "
+          << enforcement.worst_angle_error * 180 / M_PI << " deg";
+    }
   }
   return out.str();
 }
@@ -726,9 +789,14 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
 
   // q_ref: the robot in the pose the landmarks are measured from; the posture target is the map's
   // reference stance either way.
-  const Eigen::VectorXd q_posture = GroundedStance(model, workspace, inputs.map, inputs.map.reference_stance);
+  const Eigen::VectorXd q_stance = GroundedStance(model, workspace, inputs.map, inputs.map.reference_stance);
   const Eigen::VectorXd q_ref =
-      calibrated ? GroundedStance(model, workspace, inputs.map, *inputs.map.calibration_stance) : q_posture;
+      calibrated ? GroundedStance(model, workspace, inputs.map, *inputs.map.calibration_stance) : q_stance;
+  // The posture task's target and the first warm start: the reference stance with the map's posture_target
+  // (slightly flexed knees) over it.
+  std::map<std::string, double> posture_joints = inputs.map.reference_stance;
+  for (const auto& [joint, position] : inputs.map.posture_target) posture_joints[joint] = position;
+  const Eigen::VectorXd q_posture = GroundedStance(model, workspace, inputs.map, posture_joints);
   workspace.setQ(q_ref);
   std::vector<Eigen::Isometry3d> link_reference;
   for (const IkTask& task : tasks.ik) link_reference.push_back(workspace.findLinkPose(task.link));
@@ -766,6 +834,16 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
       map.feet.empty() ? FootContacts{} : SourceContacts(map, landmarks, inputs.capture.time_s, options, report.notes);
   if (calibrated && !map.feet.empty()) {
     GroundOnPlantedSoles(model, workspace, map, contacts, motion, frame_targets, report.notes);
+  }
+  if (options.enforce_contacts && !map.feet.empty()) {
+    const Eigen::VectorXd q_first = Eigen::Map<const Eigen::VectorXd>(motion.q.data(), model.nq());
+    const int64_t vertical = VerticalCoordinate(
+        model, q_first, [&](const Eigen::VectorXd& at) { return LowestSolePoint(model, workspace, map, at); });
+    const auto enforce_start = std::chrono::steady_clock::now();
+    EnforceContacts(model, workspace, map.feet, contacts, SourceFootPoses(motion, FootTasks(map, model, landmarks, tasks)),
+                    vertical, motion.time_s, map.file, options.enforcement, motion.q, &report.enforcement);
+    report.refinement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - enforce_start).count();
+    report.contacts_enforced = true;
   }
   MeasureLandmarkErrors(ik, tasks, frame_targets, model.nq(), motion, report);
   if (!map.feet.empty()) {

@@ -21,6 +21,7 @@
 #include "common/motion_file.h"
 #include "common/robot_map.h"
 #include "stages/retarget/contact_detection.h"
+#include "stages/retarget/contact_enforcement.h"
 
 namespace syn {
 
@@ -58,8 +59,12 @@ struct RetargetOptions {
   // iterations per frame on real captures for no change in their landmark errors).
   double ik_function_tolerance = 1e-3;
   // The source's foot contacts (contact_detection.h: thresholds and their sources): stored in the motion
-  // and measured on the result (stance drift, penetration, foot skating). Not yet enforced (issue 17).
+  // and measured on the result (stance drift, penetration, foot skating).
   ContactDetectionOptions contact;
+  // Contacts as constraints above every task (contact_enforcement.h): planted soles flat on the floor and
+  // still, no sole point below it, the base lowered where a planted leg cannot reach. false: measured only.
+  bool enforce_contacts = true;
+  ContactEnforcementOptions enforcement;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;
@@ -89,6 +94,8 @@ struct RetargetSummary {
   double penetrating_fraction = 0.0;           // frames with a sole point more than 1 cm below the floor
   double foot_skating = 0.0;                   // GMD foot-skating ratio of the robot's soles
   double source_foot_skating = 0.0;            // the same on the source's foot targets with the robot's soles
+  bool contacts_enforced = false;
+  ContactEnforcementReport enforcement;        // what enforcing the contacts took
 
   std::string BriefReport() const;
 };

@@ -11,7 +11,11 @@
 #include "common/model.h"
 #include "stages/retarget/frame_ik.h"
 #include "common/robot_map.h"
+#include "stages/retarget/retarget.h"
 #include "stages/retarget/trajectory_refinement.h"
+#include "common/intermediate_file.h"
+#include "common/markers_file.h"
+#include "stages/ingest/ingest.h"
 
 namespace syn {
 namespace {
@@ -172,6 +176,35 @@ void InverseDynamicsG1(benchmark::State& state) {
   state.counters["frames_per_second"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
 }
 
+// The whole stage on a real capture (the bundled CMU walk 02_01 onto G1): IK, refinement, contact
+// enforcement (range(0) = 1) or not (0), inverse dynamics; frames of the capture per second.
+void RetargetStageRealWalkG1(benchmark::State& state) {
+  const std::string source = std::string(SYN_SOURCE_DIR);
+  const std::string markers = "/tmp/syn_bench_retarget_02_01.markers.h5";
+  IngestOptions ingest;
+  ingest.drop_first_frame = true;
+  {
+    IntermediateWriter writer(markers, {kMarkersSchema, kMarkersSchemaVersion, "bench", {}, nlohmann::json::array()});
+    WriteMarkerData(writer, IngestCapture(source + "/datasets/demo/02_01.bvh", ingest, nullptr));
+    writer.commit();
+  }
+  RetargetOptions options;
+  options.model = source + "/datasets/robots/unitree_g1/g1_29dof.urdf";
+  options.robot_map = source + "/manifests/robots/g1.toml";
+  options.markerset = source + "/manifests/markersets/cmu-bvh.toml";
+  options.enforce_contacts = state.range(0) != 0;
+  const RetargetInputs inputs = LoadRetargetInputs(markers, options);
+  Workspace workspace(inputs.model);
+  int64_t frames = 0;
+  for (auto _ : state) {
+    const MotionData motion = Retarget(inputs, workspace, options, nullptr);
+    benchmark::DoNotOptimize(motion.q.data());
+    frames += motion.frames();
+  }
+  state.counters["frames_per_second"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
+}
+
+BENCHMARK(RetargetStageRealWalkG1)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(FrameIkG1)->Unit(benchmark::kMillisecond);
 BENCHMARK(AssemblerG1)->Unit(benchmark::kMillisecond);
 BENCHMARK(RefinementG1)->Unit(benchmark::kMillisecond);

@@ -1,0 +1,385 @@
+#include "stages/retarget/contact_enforcement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+
+#include "common/error.h"
+#include "stages/retarget/leg_chain.h"
+
+namespace syn {
+namespace {
+
+// A sole in its link's frame: its points, their centre, the plane's normal pointing into the foot, and
+// the foot's forward direction in that plane.
+struct SoleGeometry {
+  std::vector<Eigen::Vector3d> points;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d forward = Eigen::Vector3d::UnitX();
+};
+
+SoleGeometry SoleOf(const RobotFoot& foot) {
+  SoleGeometry sole;
+  for (const auto& point : foot.sole_points) sole.points.emplace_back(point[0], point[1], point[2]);
+  if (sole.points.empty()) sole.points.push_back(Eigen::Vector3d::Zero());
+  for (const Eigen::Vector3d& point : sole.points) sole.centre += point / static_cast<double>(sole.points.size());
+  if (sole.points.size() >= 3) {
+    Eigen::MatrixXd centred(static_cast<Eigen::Index>(sole.points.size()), 3);
+    for (size_t i = 0; i < sole.points.size(); ++i) centred.row(static_cast<Eigen::Index>(i)) = (sole.points[i] - sole.centre).transpose();
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeFullV);
+    // A plane needs two spread directions; collinear points (a line of contact) keep the link's z.
+    if (svd.singularValues()[1] > 1e-3 * svd.singularValues()[0]) sole.normal = svd.matrixV().col(2);
+  }
+  if (sole.normal.dot(-sole.centre) < 0) sole.normal = -sole.normal;
+  sole.forward = Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX().dot(sole.normal) * sole.normal;
+  if (sole.forward.norm() < 1e-6) sole.forward = sole.normal.cross(Eigen::Vector3d::UnitY());
+  sole.forward.normalize();
+  return sole;
+}
+
+double Yaw(const Eigen::Matrix3d& rotation, const SoleGeometry& sole) {
+  const Eigen::Vector3d forward = rotation * sole.forward;
+  return std::atan2(forward.y(), forward.x());
+}
+
+// The link pose that lays the sole flat on z = 0 with its centre at (x, y) and the given yaw.
+Eigen::Isometry3d PlantedPose(const SoleGeometry& sole, double x, double y, double yaw) {
+  const Eigen::Matrix3d level = Eigen::Quaterniond::FromTwoVectors(sole.normal, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(yaw - Yaw(level, sole), Eigen::Vector3d::UnitZ()).toRotationMatrix() * level;
+  pose.translation() = Eigen::Vector3d(x, y, 0.0) - pose.linear() * sole.centre;
+  return pose;
+}
+
+double LowestPoint(const SoleGeometry& sole, const Eigen::Isometry3d& pose) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& point : sole.points) lowest = std::min(lowest, (pose * point).z());
+  return lowest;
+}
+
+// Where the leg's joint limits leave the reached foot pitched against its target (late in stance the body
+// passes over the planted foot further than the ankle bends), the target is rolled about the sole edge
+// the foot pitches onto (the toe line when the toes go down, the heel line when the heel does) by that
+// pitch: the other end lifts instead of going through the floor, as a human foot rolls off its toes.
+Eigen::Isometry3d RollAboutSoleEdge(const SoleGeometry& sole, const Eigen::Isometry3d& target, const Eigen::Isometry3d& reached) {
+  const Eigen::Vector3d lateral = target.linear() * sole.normal.cross(sole.forward);
+  const Eigen::AngleAxisd between(reached.linear() * target.linear().transpose());
+  const double pitch = (between.axis() * between.angle()).dot(lateral);  // > 0: toes down
+  double extreme = pitch > 0 ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& point : sole.points) {
+    const double along = point.dot(sole.forward);
+    extreme = pitch > 0 ? std::max(extreme, along) : std::min(extreme, along);
+  }
+  Eigen::Vector3d edge = Eigen::Vector3d::Zero();
+  int on_edge = 0;
+  for (const Eigen::Vector3d& point : sole.points) {
+    if (std::abs(point.dot(sole.forward) - extreme) < 1e-3) edge += point, ++on_edge;
+  }
+  const Eigen::Vector3d pivot = target * (edge / std::max(on_edge, 1));
+  const Eigen::Matrix3d roll = Eigen::AngleAxisd(pitch, lateral).toRotationMatrix();
+  Eigen::Isometry3d rolled = target;
+  rolled.linear() = roll * target.linear();
+  rolled.translation() = pivot + roll * (target.translation() - pivot);
+  return rolled;
+}
+
+// A pose correction: translation and rotation vector, both in the ground frame.
+struct Correction {
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rotation = Eigen::Vector3d::Zero();
+};
+
+Correction Between(const Eigen::Isometry3d& to, const Eigen::Isometry3d& from) {
+  Correction correction;
+  correction.translation = to.translation() - from.translation();
+  const Eigen::AngleAxisd turn(to.linear() * from.linear().transpose());
+  correction.rotation = turn.axis() * turn.angle();
+  return correction;
+}
+
+Eigen::Isometry3d Apply(const Correction& correction, const Eigen::Isometry3d& pose) {
+  Eigen::Isometry3d corrected = pose;
+  corrected.translation() += correction.translation;
+  const double angle = correction.rotation.norm();
+  if (angle > 0) corrected.linear() = Eigen::AngleAxisd(angle, correction.rotation / angle).toRotationMatrix() * pose.linear();
+  return corrected;
+}
+
+constexpr double kFloorTolerance = 0.5e-3;  // m below z = 0 that a reached sole point may be
+
+// 1 at x = 0 down to 0 at x = 1, with zero slope at both ends.
+double Ease(double x) { return x >= 1.0 ? 0.0 : x <= 0.0 ? 1.0 : 1.0 - x * x * (3.0 - 2.0 * x); }
+
+// Every frame's target for one foot: the tracked pose, corrected towards its phases' planted poses.
+// `changed[t]` is set where the target differs from the tracked pose.
+void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>& tracked, const std::vector<ContactPhase>& phases,
+                 const std::vector<double>& time_s, double blend, std::vector<Eigen::Isometry3d>& target,
+                 std::vector<bool>& changed) {
+  const size_t frames = tracked.size();
+  std::vector<Correction> correction(frames);
+  std::vector<bool> corrected(frames, false);
+  std::vector<const ContactPhase*> own;
+  for (const ContactPhase& phase : phases) own.push_back(&phase);
+  std::sort(own.begin(), own.end(), [](const ContactPhase* a, const ContactPhase* b) { return a->begin < b->begin; });
+  for (const ContactPhase* phase : own) {
+    double x = 0, y = 0, sine = 0, cosine = 0;
+    for (int64_t t = phase->begin; t < phase->end; ++t) {
+      const Eigen::Isometry3d& pose = tracked[static_cast<size_t>(t)];
+      const Eigen::Vector3d centre = pose * sole.centre;
+      x += centre.x(), y += centre.y();
+      const double yaw = Yaw(pose.linear(), sole);
+      sine += std::sin(yaw), cosine += std::cos(yaw);
+    }
+    const double n = static_cast<double>(phase->end - phase->begin);
+    const Eigen::Isometry3d planted = PlantedPose(sole, x / n, y / n, std::atan2(sine, cosine));
+    for (int64_t t = phase->begin; t < phase->end; ++t) {
+      correction[static_cast<size_t>(t)] = Between(planted, tracked[static_cast<size_t>(t)]);
+      corrected[static_cast<size_t>(t)] = true;
+    }
+  }
+  // Between phases: each neighbouring phase's boundary correction, eased out over `blend` or the gap.
+  for (size_t k = 0; k <= own.size(); ++k) {
+    const ContactPhase* before = k > 0 ? own[k - 1] : nullptr;
+    const ContactPhase* after = k < own.size() ? own[k] : nullptr;
+    const int64_t first = before ? before->end : 0;
+    const int64_t last = after ? after->begin : static_cast<int64_t>(frames);  // exclusive
+    if (!before && !after) break;
+    double span = blend;
+    if (before && after) span = std::min(blend, time_s[static_cast<size_t>(after->begin)] - time_s[static_cast<size_t>(before->end - 1)]);
+    for (int64_t t = first; t < last; ++t) {
+      Correction& c = correction[static_cast<size_t>(t)];
+      const double now = time_s[static_cast<size_t>(t)];
+      if (before) {
+        const double w = Ease((now - time_s[static_cast<size_t>(before->end - 1)]) / span);
+        const Correction& edge = correction[static_cast<size_t>(before->end - 1)];
+        c.translation += w * edge.translation, c.rotation += w * edge.rotation;
+      }
+      if (after) {
+        const double w = Ease((time_s[static_cast<size_t>(after->begin)] - now) / span);
+        const Correction& edge = correction[static_cast<size_t>(after->begin)];
+        c.translation += w * edge.translation, c.rotation += w * edge.rotation;
+      }
+      corrected[static_cast<size_t>(t)] = c.translation.norm() > 1e-9 || c.rotation.norm() > 1e-9;
+    }
+  }
+  target.resize(frames);
+  changed.assign(frames, false);
+  for (size_t t = 0; t < frames; ++t) {
+    target[t] = corrected[t] ? Apply(correction[t], tracked[t]) : tracked[t];
+    changed[t] = corrected[t];
+    const double lowest = LowestPoint(sole, target[t]);
+    if (lowest < 0) {
+      target[t].translation().z() -= lowest;
+      changed[t] = true;
+    }
+  }
+}
+
+// Each foot's pose outside contact (contact_enforcement.h, step 0).
+std::vector<std::vector<Eigen::Isometry3d>> FreePoses(const std::vector<SoleGeometry>& soles, const FootContacts& contacts,
+                                                      const std::vector<std::vector<Eigen::Isometry3d>>& tracked,
+                                                      const std::vector<std::vector<Eigen::Isometry3d>>& source_feet) {
+  if (source_feet.size() != tracked.size()) return tracked;
+  std::vector<std::vector<Eigen::Isometry3d>> free = tracked;
+  std::vector<double> planted_lowest;
+  for (size_t f = 0; f < free.size(); ++f) {
+    for (size_t t = 0; t < free[f].size() && t < source_feet[f].size(); ++t) {
+      const Eigen::Isometry3d& source = source_feet[f][t];
+      if (!source.translation().allFinite()) continue;
+      free[f][t].translation() = source.translation();
+      if (std::isfinite(source.linear()(0, 0))) free[f][t].linear() = source.linear();
+      if (static_cast<int>(f) < contacts.feet && contacts.at(static_cast<int64_t>(t), static_cast<int>(f))) {
+        planted_lowest.push_back(LowestPoint(soles[f], free[f][t]));
+      }
+    }
+  }
+  if (planted_lowest.empty()) return free;
+  std::nth_element(planted_lowest.begin(), planted_lowest.begin() + static_cast<std::ptrdiff_t>(planted_lowest.size() / 2), planted_lowest.end());
+  const double level = planted_lowest[planted_lowest.size() / 2];
+  for (auto& foot : free) {
+    for (Eigen::Isometry3d& pose : foot) pose.translation().z() -= level;
+  }
+  return free;
+}
+
+// Consecutive frames' legs are solved from the previous frame's answer: where joint limits leave a target
+// out of reach, several leg configurations come equally close, and a start taken from the tracked motion
+// let the solution jump between them (a 0.9 rad hip-yaw step in one frame of CMU 60_10).
+void ContinueLegs(const std::vector<LegChain>& chains, const Eigen::VectorXd& previous, bool consecutive, Eigen::VectorXd& q) {
+  if (!consecutive) return;
+  for (const LegChain& chain : chains) {
+    for (int index : chain.q_index) q[index] = previous[index];
+  }
+}
+
+// A running maximum over ±2w frames, then two box filters over ±w: smooth, and nowhere below `need`.
+std::vector<double> SmoothUpperEnvelope(const std::vector<double>& need, int64_t w) {
+  const int64_t frames = static_cast<int64_t>(need.size());
+  std::vector<double> envelope(need.size()), box(need.size());
+  for (int64_t t = 0; t < frames; ++t) {
+    double most = 0;
+    for (int64_t s = std::max<int64_t>(0, t - 2 * w); s <= std::min(frames - 1, t + 2 * w); ++s) most = std::max(most, need[static_cast<size_t>(s)]);
+    envelope[static_cast<size_t>(t)] = most;
+  }
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int64_t t = 0; t < frames; ++t) {
+      const int64_t a = std::max<int64_t>(0, t - w), b = std::min(frames - 1, t + w);
+      double sum = 0;
+      for (int64_t s = a; s <= b; ++s) sum += envelope[static_cast<size_t>(s)];
+      box[static_cast<size_t>(t)] = sum / static_cast<double>(b - a + 1);
+    }
+    envelope.swap(box);
+  }
+  return envelope;
+}
+
+}  // namespace
+
+bool ContactEnforcementOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (!(blend >= 0)) return fail("--contact-blend must be >= 0 s");
+  if (!(stance_knee >= 0 && stance_knee < 1.5)) return fail("--stance-knee must be in [0, 1.5) rad");
+  if (!(max_lowering >= 0 && max_lowering < 1)) return fail("--max-lowering must be in [0, 1) (a fraction of the leg)");
+  if (!(lowering_smoothing >= 0)) return fail("--lowering-smoothing must be >= 0 s");
+  return true;
+}
+
+void EnforceContacts(const Model& model, Workspace& workspace, const std::vector<RobotFoot>& feet,
+                     const FootContacts& contacts, const std::vector<std::vector<Eigen::Isometry3d>>& source_feet,
+                     int64_t vertical_coordinate, const std::vector<double>& time_s,
+                     const std::string& map_file, const ContactEnforcementOptions& options, std::vector<double>& q,
+                     ContactEnforcementReport* report) {
+  ContactEnforcementReport local;
+  ContactEnforcementReport& out = report ? *report : local;
+  const int64_t nq = model.nq(), frames = static_cast<int64_t>(time_s.size());
+  const size_t foot_count = feet.size();
+  if (foot_count == 0 || frames == 0) return;
+  std::vector<LegChain> chains;
+  std::vector<SoleGeometry> soles;
+  for (const RobotFoot& foot : feet) {
+    chains.push_back(FindLegChain(model, workspace, foot.link, map_file));
+    soles.push_back(SoleOf(foot));
+  }
+
+  // The tracked motion's feet and hips.
+  std::vector<std::vector<Eigen::Isometry3d>> tracked(foot_count), target(foot_count);
+  std::vector<std::vector<Eigen::Vector3d>> hip(foot_count);
+  std::vector<std::vector<bool>> changed(foot_count);
+  for (size_t f = 0; f < foot_count; ++f) tracked[f].resize(static_cast<size_t>(frames)), hip[f].resize(static_cast<size_t>(frames));
+  Eigen::VectorXd frame_q(nq);
+  for (int64_t t = 0; t < frames; ++t) {
+    frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
+    workspace.setQ(frame_q);
+    for (size_t f = 0; f < foot_count; ++f) {
+      tracked[f][static_cast<size_t>(t)] = workspace.findLinkPose(chains[f].foot_link);
+      hip[f][static_cast<size_t>(t)] = workspace.findLinkPose(chains[f].hip_link).translation();
+    }
+  }
+  const std::vector<std::vector<Eigen::Isometry3d>> free = FreePoses(soles, contacts, tracked, source_feet);
+  for (size_t f = 0; f < foot_count; ++f) {
+    std::vector<ContactPhase> phases;
+    for (const ContactPhase& phase : contacts.phases) {
+      if (phase.foot == static_cast<int>(f)) phases.push_back(phase);
+    }
+    FootTargets(soles[f], free[f], phases, time_s, options.blend, target[f], changed[f]);
+    for (int64_t t = 0; t < frames; ++t) {
+      const Correction moved = Between(target[f][static_cast<size_t>(t)], tracked[f][static_cast<size_t>(t)]);
+      changed[f][static_cast<size_t>(t)] = moved.translation.norm() > 1e-9 || moved.rotation.norm() > 1e-9;
+    }
+  }
+
+  // How far the base must come down for every corrected target to be within reach of a leg whose knee keeps
+  // `stance_knee`: each such leg is solved with that floor first, and where it falls short, the distance it
+  // did reach from its hip is the radius of the sphere the target must come within.
+  LegSolver solver(model, chains);
+  Eigen::VectorXd previous(nq);
+  int64_t previous_frame = -2;
+  std::vector<double> need(static_cast<size_t>(frames), 0.0);
+  std::vector<Eigen::Isometry3d> frame_targets(foot_count);
+  std::vector<bool> active(foot_count);
+  if (vertical_coordinate >= 0) {
+    for (int64_t t = 0; t < frames; ++t) {
+      bool any = false;
+      for (size_t f = 0; f < foot_count; ++f) {
+        active[f] = changed[f][static_cast<size_t>(t)];
+        frame_targets[f] = target[f][static_cast<size_t>(t)];
+        any = any || active[f];
+      }
+      if (!any) continue;
+      frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
+      ContinueLegs(chains, previous, t - 1 == previous_frame, frame_q);
+      solver.solve(workspace, frame_targets, active, frame_q, options.stance_knee);
+      previous = frame_q, previous_frame = t;
+      workspace.setQ(frame_q);
+      for (size_t f = 0; f < foot_count; ++f) {
+        if (!active[f]) continue;
+        const Eigen::Vector3d reached = workspace.findLinkPose(chains[f].foot_link).translation();
+        const Eigen::Vector3d& wanted = frame_targets[f].translation();
+        if ((reached - wanted).norm() < 1e-3) continue;
+        const Eigen::Vector3d& hip_at = hip[f][static_cast<size_t>(t)];
+        const double reach = (hip_at - reached).norm(), cap = options.max_lowering * chains[f].length;
+        const Eigen::Vector3d d = hip_at - wanted;
+        const double sideways = d.head<2>().squaredNorm();
+        double drop = sideways < reach * reach ? d.z() - std::sqrt(reach * reach - sideways) : cap + 1.0;
+        if (drop > cap) ++out.unreachable_frames, drop = cap;
+        need[static_cast<size_t>(t)] = std::max(need[static_cast<size_t>(t)], drop);
+      }
+    }
+  }
+  const double dt = frames > 1 ? (time_s.back() - time_s.front()) / static_cast<double>(frames - 1) : 1.0;
+  const int64_t half_width = static_cast<int64_t>(std::lround(options.lowering_smoothing / std::max(dt, 1e-9)));
+  const std::vector<double> lowering = SmoothUpperEnvelope(need, half_width);
+
+  int64_t iterations = 0;
+  std::vector<bool> retry(foot_count);
+  previous_frame = -2;
+  for (int64_t t = 0; t < frames; ++t) {
+    const double drop = lowering[static_cast<size_t>(t)];
+    bool any = drop > 1e-9;
+    for (size_t f = 0; f < foot_count; ++f) any = any || changed[f][static_cast<size_t>(t)];
+    if (!any) continue;
+    frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
+    if (drop > 1e-9) frame_q[vertical_coordinate] -= drop;
+    ContinueLegs(chains, previous, t - 1 == previous_frame, frame_q);
+    for (size_t f = 0; f < foot_count; ++f) {
+      frame_targets[f] = target[f][static_cast<size_t>(t)];
+      active[f] = drop > 1e-9 || changed[f][static_cast<size_t>(t)];
+    }
+    LegSolveResult solved = solver.solve(workspace, frame_targets, active, frame_q);
+    for (int round = 0; round < 5; ++round) {
+      workspace.setQ(frame_q);
+      bool rolled = false;
+      for (size_t f = 0; f < foot_count; ++f) {
+        const Eigen::Isometry3d reached = workspace.findLinkPose(chains[f].foot_link);
+        const bool through_floor = active[f] && LowestPoint(soles[f], reached) < -kFloorTolerance;
+        if (through_floor) frame_targets[f] = RollAboutSoleEdge(soles[f], frame_targets[f], reached), ++out.rolled_foot_frames;
+        retry[f] = through_floor;
+        rolled = rolled || through_floor;
+      }
+      if (!rolled) break;
+      const LegSolveResult again = solver.solve(workspace, frame_targets, retry, frame_q);
+      solved.iterations += again.iterations;
+      solved.position_error = again.position_error, solved.angle_error = again.angle_error;
+    }
+    iterations += solved.iterations;
+    ++out.solved_frames;
+    if (drop > 1e-3) ++out.lowered_frames;
+    out.max_lowering = std::max(out.max_lowering, drop);
+    if (solved.position_error > out.worst_position_error) {
+      out.worst_position_error = solved.position_error, out.worst_frame = t;
+    }
+    out.worst_angle_error = std::max(out.worst_angle_error, solved.angle_error);
+    std::copy(frame_q.data(), frame_q.data() + nq, q.begin() + t * nq);
+    previous = frame_q, previous_frame = t;
+  }
+  out.mean_iterations = out.solved_frames ? static_cast<double>(iterations) / static_cast<double>(out.solved_frames) : 0.0;
+}
+
+}  // namespace syn

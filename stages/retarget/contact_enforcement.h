@@ -1,0 +1,83 @@
+// Contacts as constraints on the retargeted motion (issue 17): after the IK and
+// the trajectory refinement have tracked the Table I tasks, the source's contact
+// phases are made exact, above every task.
+//
+// 0. Free poses. Outside contact the feet follow the source: each foot's target
+//    is its landmark target (the capture scaled to the robot), moved down so
+//    that the source's planted frames sit on the floor (the median lowest sole
+//    point over them at z = 0), with the tracked orientation where the landmark
+//    has none and the tracked pose where it is missing. The IK's own foot
+//    poses are a compromise with targets the legs cannot reach together (a
+//    pelvis above straight legs), which kept swing feet 1-3 cm off the floor.
+// 1. Planted poses. During each contact phase the foot's sole lies flat on
+//    z = 0 and does not move: its yaw is the circular mean of the foot's yaw over
+//    the phase and its sole centre the mean of the sole centre's horizontal
+//    position (of the free poses), so the plant sits where the source put the
+//    foot and the correction is as small as it can be.
+// 2. Blending. Outside a phase the correction (planted pose ⊖ tracked pose, as a
+//    translation and a rotation vector) fades with a cubic ease over `blend`
+//    seconds, or over the gap to the next phase of that foot when it is shorter,
+//    so the foot's path stays continuous at touchdown and lift-off. Any frame's
+//    foot target whose lowest sole point would be below z = 0 is raised onto it.
+// 3. Reach. Each corrected leg is first solved with its knee (branch joints,
+//    branch_joints.h) kept at least `stance_knee` bent. Where the foot falls
+//    short, the distance the leg did reach from its hip is the radius the target
+//    must come within, and the base is lowered by the least amount that brings
+//    it there, never by more than `max_lowering` × the leg, smoothed over
+//    `lowering_smoothing` seconds so that the lowering is never less than needed
+//    (a running maximum, then two box filters of half that width). The upper
+//    body moves down with the base.
+// 4. Legs. Each frame whose foot targets differ from where the lowered robot
+//    puts its feet is solved exactly for those feet by the leg chains
+//    (leg_chain.h), every other joint unchanged. Where the leg's limits leave a
+//    sole point below the floor (the ankle cannot bend as far as the body passes
+//    over the planted foot), the target rolls about the toe or heel edge the
+//    foot pitches onto, and the leg is solved again.
+//
+// How much a trial needed each step is reported, so a user sees where the
+// tracked motion and the contacts disagreed.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "common/model.h"
+#include "common/robot_map.h"
+#include "stages/retarget/contact_detection.h"
+
+namespace syn {
+
+struct ContactEnforcementOptions {
+  double blend = 0.1;               // s
+  double stance_knee = 0.15;        // rad a corrected leg's knee keeps (human stance knees bend 5-20°)
+  double max_lowering = 0.2;        // of the straight leg
+  double lowering_smoothing = 0.1;  // s
+
+  bool IsValid(std::string* error) const;
+};
+
+struct ContactEnforcementReport {
+  double max_lowering = 0.0;            // m the base was lowered at most
+  int64_t lowered_frames = 0;           // frames lowered by more than 1 mm
+  int64_t unreachable_frames = 0;       // frames a target stayed out of reach (lowering capped, or sideways)
+  int64_t solved_frames = 0;            // frames whose legs were re-solved
+  double worst_position_error = 0.0;    // m: the largest foot error the leg solve left (a joint limit)
+  double worst_angle_error = 0.0;       // rad
+  int64_t worst_frame = -1;
+  double mean_iterations = 0.0;         // leg-solver iterations per solved frame
+  int64_t rolled_foot_frames = 0;       // foot-frames rolled about a sole edge (a joint limit pitched the foot)
+};
+
+// source_feet[f][t]: foot f's landmark target (NaN translation: missing; NaN in the rotation's first entry:
+// position only); empty: the tracked poses are the free poses. q: [T, nq] row-major, in place. `vertical_coordinate`: the coordinate that moves the robot straight up
+// (a free base's z or a virtual prismatic joint), -1 when there is none (no lowering then).
+void EnforceContacts(const Model& model, Workspace& workspace, const std::vector<RobotFoot>& feet,
+                     const FootContacts& contacts, const std::vector<std::vector<Eigen::Isometry3d>>& source_feet,
+                     int64_t vertical_coordinate, const std::vector<double>& time_s,
+                     const std::string& map_file, const ContactEnforcementOptions& options, std::vector<double>& q,
+                     ContactEnforcementReport* report);
+
+}  // namespace syn

@@ -1,0 +1,79 @@
+// A foot's leg as a kinematic chain, and the inverse kinematics that puts the
+// foot at a pose with the rest of the robot held still.
+//
+// The chain is every actuated one-degree-of-freedom joint on the path from the
+// foot link up to the floating base (the first unactuated joint, or the root):
+// six joints on G1, H1 and HRP-4C, so a reachable foot pose has an exact
+// answer. The solver is damped Gauss-Newton on the foot link's 6-D pose error
+// with the URDF limits clamped after each step, warm-started from the joints
+// it is given: on a leg kept away from full extension that keeps the knee on
+// the side it started on.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "common/model.h"
+
+namespace syn {
+
+struct LegChain {
+  int foot_link = -1;
+  int hip_link = -1;                   // child link of the chain's top joint: its origin is the hip centre
+  std::vector<int> q_index, u_index;   // the chain's joints, foot first
+  std::vector<double> lower, upper;    // limits per joint: the URDF's, a branch joint's lower one raised to 0
+  std::vector<bool> branch;           // branch_joints.h: kept >= 0, a solve near 0 starts from kBranchStart
+  double length = 0.0;                 // hip-to-foot-origin distance in the model's default (zero) pose
+
+  size_t size() const { return q_index.size(); }
+};
+
+// Throws DataError naming `map_file` when the link is not a chain of one-dof joints below the base.
+[[nodiscard]] LegChain FindLegChain(const Model& model, Workspace& workspace, const std::string& foot_link,
+                                    const std::string& map_file);
+
+struct LegSolveOptions {
+  int max_iterations = 30;
+  double position_tolerance = 1e-6;  // m: a thousandth of a millimetre
+  double angle_tolerance = 1e-5;     // rad
+  double damping = 1e-4;             // initial Levenberg–Marquardt damping of the 6×6 normal matrix
+  double angle_scale = 0.1;          // m per rad: how angle errors weigh against position errors
+  double max_step = 0.3;             // rad per iteration and joint: keeps an early step on its branch
+};
+
+struct LegSolveResult {
+  int iterations = 0;           // summed over the solved chains
+  double position_error = 0.0;  // m, the largest over the solved chains, after the last step
+  double angle_error = 0.0;     // rad
+};
+
+// Solves the chains whose `active` entry is set, each for its foot link's ground-frame `targets` entry,
+// changing only their joints in q: Levenberg–Marquardt on the foot's 6-D pose error (a step that does not
+// lower the error is undone and the damping raised), so an unreachable target ends at the nearest pose
+// the leg reaches instead of wandering. `branch_floor` is the branch joints' lower bound for this solve
+// (0, or a flexion to keep).
+class LegSolver {
+ public:
+  LegSolver(const Model& model, std::vector<LegChain> chains, const LegSolveOptions& options = {});
+
+  const std::vector<LegChain>& chains() const { return chains_; }
+
+  LegSolveResult solve(Workspace& workspace, const std::vector<Eigen::Isometry3d>& targets,
+                       const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor = 0.0);
+
+ private:
+  // One chain's weighted pose error at the workspace's configuration.
+  double chainError(const Workspace& workspace, size_t chain, const Eigen::Isometry3d& target,
+                    Eigen::Matrix<double, 6, 1>& error) const;
+
+  std::vector<LegChain> chains_;
+  LegSolveOptions options_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> chain_jacobian_;
+  std::vector<double> saved_;
+};
+
+}  // namespace syn

@@ -1,0 +1,82 @@
+// The leg chains contact enforcement solves: found from the URDF, and solved exactly for a reachable foot
+// pose (one made by forward kinematics of other leg joints) with every other joint left alone.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "common/model.h"
+#include "stages/retarget/leg_chain.h"
+#include "tests/support/shared_data.h"
+
+namespace syn {
+namespace {
+
+class LegChainTest : public ::testing::Test {
+ protected:
+  LegChainTest()
+      : model_(Model::Load(testing::SourcePath("datasets/robots/unitree_g1/g1_29dof.urdf"))), workspace_(model_) {}
+
+  int Coordinate(const std::string& name) const {
+    const auto& names = model_.coordinateNames();
+    return static_cast<int>(std::find(names.begin(), names.end(), name) - names.begin());
+  }
+
+  Model model_;
+  Workspace workspace_;
+};
+
+TEST_F(LegChainTest, G1LegIsTheSixJointsFromHipToAnkle) {
+  const LegChain chain = FindLegChain(model_, workspace_, "left_ankle_roll_link", "g1.toml");
+  ASSERT_EQ(chain.size(), 6u);
+  const auto& names = model_.coordinateNames();
+  EXPECT_EQ(names[static_cast<size_t>(chain.q_index.front())], "left_ankle_roll_joint");
+  EXPECT_EQ(names[static_cast<size_t>(chain.q_index.back())], "left_hip_pitch_joint");
+  // The knee is a branch joint: its lower limit (−0.087 rad in the URDF) is raised to 0.
+  const size_t knee = static_cast<size_t>(std::find(chain.q_index.begin(), chain.q_index.end(), Coordinate("left_knee_joint")) -
+                                          chain.q_index.begin());
+  ASSERT_LT(knee, chain.size());
+  EXPECT_TRUE(chain.branch[knee]);
+  EXPECT_EQ(chain.lower[knee], 0.0);
+  EXPECT_GT(chain.length, 0.5);
+  EXPECT_LT(chain.length, 0.7);
+}
+
+TEST_F(LegChainTest, ReachableFootPoseIsSolvedExactlyAndNothingElseMoves) {
+  std::vector<LegChain> chains = {FindLegChain(model_, workspace_, "left_ankle_roll_link", "g1.toml"),
+                                  FindLegChain(model_, workspace_, "right_ankle_roll_link", "g1.toml")};
+  Eigen::VectorXd goal = model_.defaultQ();
+  goal.head<4>() = Eigen::Vector4d(std::cos(0.2), 0.0, 0.0, std::sin(0.2));  // base yawed 0.4 rad
+  goal.segment<3>(4) = Eigen::Vector3d(0.3, -0.2, 0.7);
+  goal[Coordinate("left_hip_pitch_joint")] = -0.6, goal[Coordinate("left_knee_joint")] = 0.9;
+  goal[Coordinate("left_ankle_pitch_joint")] = -0.2, goal[Coordinate("left_hip_roll_joint")] = 0.15;
+  goal[Coordinate("right_hip_pitch_joint")] = 0.2, goal[Coordinate("right_knee_joint")] = 0.4;
+  goal[Coordinate("right_hip_yaw_joint")] = -0.3, goal[Coordinate("right_ankle_roll_joint")] = 0.1;
+  goal[Coordinate("waist_yaw_joint")] = 0.3;
+  workspace_.setQ(goal);
+  std::vector<Eigen::Isometry3d> targets = {workspace_.findLinkPose(chains[0].foot_link), workspace_.findLinkPose(chains[1].foot_link)};
+  // Start: the same base and upper body, legs straight.
+  Eigen::VectorXd q = goal;
+  for (const LegChain& chain : chains) {
+    for (int index : chain.q_index) q[index] = 0.0;
+  }
+  LegSolver solver(model_, chains);
+  const LegSolveResult result = solver.solve(workspace_, targets, {true, true}, q);
+  EXPECT_LT(result.position_error, 1e-6);
+  EXPECT_LT(result.angle_error, 1e-6);
+  EXPECT_LT(result.iterations, 15);
+  for (int i = 0; i < model_.nq(); ++i) EXPECT_NEAR(q[i], goal[i], 1e-5) << model_.coordinateNames()[static_cast<size_t>(i)];
+}
+
+TEST_F(LegChainTest, InactiveChainIsLeftAlone) {
+  std::vector<LegChain> chains = {FindLegChain(model_, workspace_, "left_ankle_roll_link", "g1.toml")};
+  Eigen::VectorXd q = model_.defaultQ();
+  q[Coordinate("left_knee_joint")] = 0.5;
+  const Eigen::VectorXd before = q;
+  LegSolver solver(model_, chains);
+  solver.solve(workspace_, {Eigen::Isometry3d::Identity()}, {false}, q);
+  EXPECT_EQ(q, before);
+}
+
+}  // namespace
+}  // namespace syn
