@@ -8,6 +8,7 @@
 #include <Eigen/SVD>
 
 #include "common/error.h"
+#include "common/percentile.h"
 #include "stages/retarget/leg_chain.h"
 
 namespace syn {
@@ -114,21 +115,22 @@ constexpr double kFloorTolerance = 0.5e-3;  // m below z = 0 that a reached sole
 // 1 at x = 0 down to 0 at x = 1, with zero slope at both ends.
 double Ease(double x) { return x >= 1.0 ? 0.0 : x <= 0.0 ? 1.0 : 1.0 - x * x * (3.0 - 2.0 * x); }
 
-// Every frame's target for one foot: the tracked pose, corrected towards its phases' planted poses.
-// `changed[t]` is set where the target differs from the tracked pose.
-void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>& tracked, const std::vector<ContactPhase>& phases,
-                 const std::vector<double>& time_s, double blend, std::vector<Eigen::Isometry3d>& target,
-                 std::vector<bool>& changed) {
-  const size_t frames = tracked.size();
+// Every frame's target for foot `foot`: its free pose, corrected towards its phases' planted poses and raised
+// out of the floor. `corrected[t]` is set where either happened.
+void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>& free, const std::vector<ContactPhase>& phases,
+                 int foot, const std::vector<double>& time_s, double blend, std::vector<Eigen::Isometry3d>& target,
+                 std::vector<bool>& corrected) {
+  const size_t frames = free.size();
   std::vector<Correction> correction(frames);
-  std::vector<bool> corrected(frames, false);
   std::vector<const ContactPhase*> own;
-  for (const ContactPhase& phase : phases) own.push_back(&phase);
+  for (const ContactPhase& phase : phases) {
+    if (phase.foot == foot) own.push_back(&phase);
+  }
   std::sort(own.begin(), own.end(), [](const ContactPhase* a, const ContactPhase* b) { return a->begin < b->begin; });
   for (const ContactPhase* phase : own) {
     double x = 0, y = 0, sine = 0, cosine = 0;
     for (int64_t t = phase->begin; t < phase->end; ++t) {
-      const Eigen::Isometry3d& pose = tracked[static_cast<size_t>(t)];
+      const Eigen::Isometry3d& pose = free[static_cast<size_t>(t)];
       const Eigen::Vector3d centre = pose * sole.centre;
       x += centre.x(), y += centre.y();
       const double yaw = Yaw(pose.linear(), sole);
@@ -137,17 +139,15 @@ void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>&
     const double n = static_cast<double>(phase->end - phase->begin);
     const Eigen::Isometry3d planted = PlantedPose(sole, x / n, y / n, std::atan2(sine, cosine));
     for (int64_t t = phase->begin; t < phase->end; ++t) {
-      correction[static_cast<size_t>(t)] = Between(planted, tracked[static_cast<size_t>(t)]);
-      corrected[static_cast<size_t>(t)] = true;
+      correction[static_cast<size_t>(t)] = Between(planted, free[static_cast<size_t>(t)]);
     }
   }
   // Between phases: each neighbouring phase's boundary correction, eased out over `blend` or the gap.
-  for (size_t k = 0; k <= own.size(); ++k) {
+  for (size_t k = 0; k <= own.size() && !own.empty(); ++k) {
     const ContactPhase* before = k > 0 ? own[k - 1] : nullptr;
     const ContactPhase* after = k < own.size() ? own[k] : nullptr;
     const int64_t first = before ? before->end : 0;
     const int64_t last = after ? after->begin : static_cast<int64_t>(frames);  // exclusive
-    if (!before && !after) break;
     double span = blend;
     if (before && after) span = std::min(blend, time_s[static_cast<size_t>(after->begin)] - time_s[static_cast<size_t>(before->end - 1)]);
     for (int64_t t = first; t < last; ++t) {
@@ -163,18 +163,17 @@ void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>&
         const Correction& edge = correction[static_cast<size_t>(after->begin)];
         c.translation += w * edge.translation, c.rotation += w * edge.rotation;
       }
-      corrected[static_cast<size_t>(t)] = c.translation.norm() > 1e-9 || c.rotation.norm() > 1e-9;
     }
   }
   target.resize(frames);
-  changed.assign(frames, false);
+  corrected.assign(frames, false);
   for (size_t t = 0; t < frames; ++t) {
-    target[t] = corrected[t] ? Apply(correction[t], tracked[t]) : tracked[t];
-    changed[t] = corrected[t];
+    corrected[t] = correction[t].translation.norm() > 1e-9 || correction[t].rotation.norm() > 1e-9;
+    target[t] = Apply(correction[t], free[t]);
     const double lowest = LowestPoint(sole, target[t]);
     if (lowest < 0) {
       target[t].translation().z() -= lowest;
-      changed[t] = true;
+      corrected[t] = true;
     }
   }
 }
@@ -198,8 +197,7 @@ std::vector<std::vector<Eigen::Isometry3d>> FreePoses(const std::vector<SoleGeom
     }
   }
   if (planted_lowest.empty()) return free;
-  std::nth_element(planted_lowest.begin(), planted_lowest.begin() + static_cast<std::ptrdiff_t>(planted_lowest.size() / 2), planted_lowest.end());
-  const double level = planted_lowest[planted_lowest.size() / 2];
+  const double level = NearestRankPercentile(std::move(planted_lowest), 0.5);
   for (auto& foot : free) {
     for (Eigen::Isometry3d& pose : foot) pose.translation().z() -= level;
   }
@@ -271,7 +269,8 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   // The tracked motion's feet and hips.
   std::vector<std::vector<Eigen::Isometry3d>> tracked(foot_count), target(foot_count);
   std::vector<std::vector<Eigen::Vector3d>> hip(foot_count);
-  std::vector<std::vector<bool>> changed(foot_count);
+  // corrected: moved by a contact or out of the floor; changed: anywhere the target is not the tracked pose.
+  std::vector<std::vector<bool>> corrected(foot_count), changed(foot_count);
   for (size_t f = 0; f < foot_count; ++f) tracked[f].resize(static_cast<size_t>(frames)), hip[f].resize(static_cast<size_t>(frames));
   Eigen::VectorXd frame_q(nq);
   for (int64_t t = 0; t < frames; ++t) {
@@ -284,11 +283,8 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   }
   const std::vector<std::vector<Eigen::Isometry3d>> free = FreePoses(soles, contacts, tracked, source_feet);
   for (size_t f = 0; f < foot_count; ++f) {
-    std::vector<ContactPhase> phases;
-    for (const ContactPhase& phase : contacts.phases) {
-      if (phase.foot == static_cast<int>(f)) phases.push_back(phase);
-    }
-    FootTargets(soles[f], free[f], phases, time_s, options.blend, target[f], changed[f]);
+    FootTargets(soles[f], free[f], contacts.phases, static_cast<int>(f), time_s, options.blend, target[f], corrected[f]);
+    changed[f].resize(static_cast<size_t>(frames));
     for (int64_t t = 0; t < frames; ++t) {
       const Correction moved = Between(target[f][static_cast<size_t>(t)], tracked[f][static_cast<size_t>(t)]);
       changed[f][static_cast<size_t>(t)] = moved.translation.norm() > 1e-9 || moved.rotation.norm() > 1e-9;
@@ -366,7 +362,9 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       if (!rolled) break;
       const LegSolveResult again = solver.solve(workspace, frame_targets, retry, frame_q);
       solved.iterations += again.iterations;
-      solved.position_error = again.position_error, solved.angle_error = again.angle_error;
+      // The worst of either solve: a rolled foot's first error was against the flat pose it gave up.
+      solved.position_error = std::max(solved.position_error, again.position_error);
+      solved.angle_error = std::max(solved.angle_error, again.angle_error);
     }
     iterations += solved.iterations;
     ++out.solved_frames;

@@ -59,8 +59,6 @@ class LegSolver {
  public:
   LegSolver(const Model& model, std::vector<LegChain> chains, const LegSolveOptions& options = {});
 
-  const std::vector<LegChain>& chains() const { return chains_; }
-
   LegSolveResult solve(Workspace& workspace, const std::vector<Eigen::Isometry3d>& targets,
                        const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor = 0.0);
 

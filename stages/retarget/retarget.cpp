@@ -486,10 +486,20 @@ std::vector<int> FootTasks(const RobotMap& map, const Model& model, const Landma
   return foot_task;
 }
 
-// Each robot foot's landmark target per frame (contact_enforcement.h's source_feet; a foot with no task
-// gives NaN poses, so its tracked pose stands).
+// The target a task stored for frame t (motion.landmark_targets): its position (NaN when the landmark was
+// missing) and, when the landmark has one, its orientation; false when it has none (the pose keeps identity).
+bool StoredTarget(const MotionData& motion, int64_t t, int task, Eigen::Isometry3d* pose) {
+  const double* target = &motion.landmark_targets[(static_cast<size_t>(t) * motion.landmark_names.size() + static_cast<size_t>(task)) * 7];
+  *pose = Eigen::Isometry3d::Identity();
+  pose->translation() = Eigen::Vector3d(target[0], target[1], target[2]);
+  if (!std::isfinite(target[3])) return false;
+  pose->linear() = Eigen::Quaterniond(target[3], target[4], target[5], target[6]).normalized().toRotationMatrix();
+  return true;
+}
+
+// Each robot foot's landmark target per frame, as contact_enforcement.h's source_feet takes them (NaN
+// translation: missing or no foot task; NaN first rotation entry: position only).
 std::vector<std::vector<Eigen::Isometry3d>> SourceFootPoses(const MotionData& motion, const std::vector<int>& foot_tasks) {
-  const size_t task_count = motion.landmark_names.size();
   std::vector<std::vector<Eigen::Isometry3d>> poses(foot_tasks.size());
   for (size_t f = 0; f < foot_tasks.size(); ++f) {
     poses[f].assign(static_cast<size_t>(motion.frames()), Eigen::Isometry3d::Identity());
@@ -497,13 +507,7 @@ std::vector<std::vector<Eigen::Isometry3d>> SourceFootPoses(const MotionData& mo
       Eigen::Isometry3d& pose = poses[f][static_cast<size_t>(t)];
       if (foot_tasks[f] < 0) {
         pose.translation().setConstant(std::nan(""));
-        continue;
-      }
-      const double* target = &motion.landmark_targets[(static_cast<size_t>(t) * task_count + static_cast<size_t>(foot_tasks[f])) * 7];
-      pose.translation() = Eigen::Vector3d(target[0], target[1], target[2]);
-      if (std::isfinite(target[3])) {
-        pose.linear() = Eigen::Quaterniond(target[3], target[4], target[5], target[6]).normalized().toRotationMatrix();
-      } else {
+      } else if (!StoredTarget(motion, t, foot_tasks[f], &pose)) {
         pose.linear()(0, 0) = std::nan("");
       }
     }
@@ -582,7 +586,7 @@ void GroundOnPlantedSoles(const Model& model, Workspace& workspace, const RobotM
 void MeasureContacts(const Model& model, Workspace& workspace, const RobotMap& map, const FootContacts& contacts,
                      const std::vector<int>& foot_tasks, const MotionData& motion, RetargetSummary& report) {
   const int64_t nq = model.nq(), frames = motion.frames();
-  const size_t feet = map.feet.size(), task_count = motion.landmark_names.size();
+  const size_t feet = map.feet.size();
   std::vector<int> links;
   for (const RobotFoot& foot : map.feet) links.push_back(model.findLinkIndex(foot.link));
   std::vector<std::vector<FootSample>> robot(feet), source(feet);
@@ -597,13 +601,9 @@ void MeasureContacts(const Model& model, Workspace& workspace, const RobotMap& m
       robot[f].push_back(SoleSample(map.feet[f], workspace.findLinkPose(links[f])));
       lowest = std::min(lowest, robot[f].back().lowest_z);
       if (foot_tasks[f] < 0) continue;
-      const double* target = &motion.landmark_targets[(static_cast<size_t>(t) * task_count + static_cast<size_t>(foot_tasks[f])) * 7];
-      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-      if (std::isfinite(target[0])) pose.translation() = Eigen::Vector3d(target[0], target[1], target[2]);
-      if (std::isfinite(target[3])) {
-        pose.linear() = Eigen::Quaterniond(target[3], target[4], target[5], target[6]).normalized().toRotationMatrix();
-      }
-      const bool valid = std::isfinite(target[0]);
+      Eigen::Isometry3d pose;
+      StoredTarget(motion, t, foot_tasks[f], &pose);
+      const bool valid = pose.translation().allFinite();
       source[f].push_back(valid ? SoleSample(map.feet[f], pose) : source[f].empty() ? FootSample{} : source[f].back());
     }
     if (lowest < -0.01) ++penetrating;
@@ -714,7 +714,8 @@ std::string RetargetSummary::BriefReport() const {
           << enforcement.mean_iterations << " iterations), base lowered up to " << enforcement.max_lowering * 1000
           << " mm (" << enforcement.lowered_frames << " frames), " << enforcement.unreachable_frames
           << " frames out of reach, worst foot error " << enforcement.worst_position_error * 1000 << " mm / "
-          << enforcement.worst_angle_error * 180 / M_PI << " deg";
+          << enforcement.worst_angle_error * 180 / M_PI << " deg, " << enforcement.rolled_foot_frames
+          << " foot-frames rolled onto a sole edge";
     }
   }
   return out.str();

@@ -6,6 +6,10 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <unistd.h>
 
 #include "common/assembler_tracking.h"
 #include "common/model.h"
@@ -180,7 +184,7 @@ void InverseDynamicsG1(benchmark::State& state) {
 // enforcement (range(0) = 1) or not (0), inverse dynamics; frames of the capture per second.
 void RetargetStageRealWalkG1(benchmark::State& state) {
   const std::string source = std::string(SYN_SOURCE_DIR);
-  const std::string markers = "/tmp/syn_bench_retarget_02_01.markers.h5";
+  const std::string markers = std::filesystem::temp_directory_path() / ("syn_bench_retarget_" + std::to_string(::getpid()) + ".markers.h5");
   IngestOptions ingest;
   ingest.drop_first_frame = true;
   {
@@ -201,6 +205,7 @@ void RetargetStageRealWalkG1(benchmark::State& state) {
     benchmark::DoNotOptimize(motion.q.data());
     frames += motion.frames();
   }
+  std::filesystem::remove(markers);
   state.counters["frames_per_second"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
 }
 
