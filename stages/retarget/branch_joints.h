@@ -2,17 +2,27 @@
 // forwards. Their leg or arm can only be straightened to the backward limit through the mirrored branch,
 // and a straight limb's targets cannot tell +θ from −θ, so a solver that lets them cross zero ends with the
 // joint locked on its backward limit while the real one bends forward again (G1's knee allows −5°: the
-// same-robot round trip found G1 knees on −5° against +16..80° in its source). The retargeter keeps them
-// at or above zero, and a solve that ends on that floor is tried again from kBranchStart.
+// same-robot round trip found G1 knees on −5° against +16..80° in its source). Contact enforcement's leg
+// solves keep them at or above zero, and a leg that starts below starts from kBranchStart. (The per-frame IK
+// and the refinement do not yet: branch issue-17-enforce has that, with effects on syn-simulate to resolve.)
 #pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/model.h"
 
 namespace syn {
 
 inline constexpr double kBranchStart = 0.2;  // rad
 
-// A revolute joint whose lower limit lies in [−0.3, 0] rad and whose upper one is above 1 rad.
-inline bool IsBranchJoint(bool revolute, double lower, double upper) {
-  return revolute && lower >= -0.3 && lower <= 0.0 && upper > 1.0;
-}
+// [nq]: whether each coordinate is a branch joint's: revolute, lower limit in [−0.3, 0] rad, upper above
+// 2 rad (G1's and H1's knees; HRP-4C's arm joints j20/j26, −0.3 .. 1.4 rad, are not: treating them as
+// knees turned its virtual base through 2π in a frame on a C3D capture).
+[[nodiscard]] std::vector<bool> BranchCoordinates(const Model& model);
+
+// [nq]: the model's lower limits, with each branch joint's raised to 0.
+[[nodiscard]] Eigen::VectorXd RetargetLowerLimits(const Model& model);
 
 }  // namespace syn

@@ -118,8 +118,8 @@ double Ease(double x) { return x >= 1.0 ? 0.0 : x <= 0.0 ? 1.0 : 1.0 - x * x * (
 // Every frame's target for foot `foot`: its free pose, corrected towards its phases' planted poses and raised
 // out of the floor. `corrected[t]` is set where either happened.
 void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>& free, const std::vector<ContactPhase>& phases,
-                 int foot, const std::vector<double>& time_s, double blend, std::vector<Eigen::Isometry3d>& target,
-                 std::vector<bool>& corrected) {
+                 int foot, const std::vector<double>& time_s, double blend, bool roll_with_source,
+                 std::vector<Eigen::Isometry3d>& target, std::vector<bool>& corrected) {
   const size_t frames = free.size();
   std::vector<Correction> correction(frames);
   std::vector<const ContactPhase*> own;
@@ -138,8 +138,13 @@ void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>&
     }
     const double n = static_cast<double>(phase->end - phase->begin);
     const Eigen::Isometry3d planted = PlantedPose(sole, x / n, y / n, std::atan2(sine, cosine));
+    // Heel strike and toe-off (roll_with_source): where the source foot pitches within the phase, the plant
+    // rolls about the heel or toe edge with it (that edge stays put on the floor) instead of being held flat,
+    // which bends the ankle by the whole pitch (up to 40° on the same-robot round trip). The sole centre then
+    // moves with the roll (10-20 mm on CMU walks), so it is off by default.
     for (int64_t t = phase->begin; t < phase->end; ++t) {
-      correction[static_cast<size_t>(t)] = Between(planted, free[static_cast<size_t>(t)]);
+      const Eigen::Isometry3d& source = free[static_cast<size_t>(t)];
+      correction[static_cast<size_t>(t)] = Between(roll_with_source ? RollAboutSoleEdge(sole, planted, source) : planted, source);
     }
   }
   // Between phases: each neighbouring phase's boundary correction, eased out over `blend` or the gap.
@@ -190,7 +195,6 @@ std::vector<std::vector<Eigen::Isometry3d>> FreePoses(const std::vector<SoleGeom
       const Eigen::Isometry3d& source = source_feet[f][t];
       if (!source.translation().allFinite()) continue;
       free[f][t].translation() = source.translation();
-      if (std::isfinite(source.linear()(0, 0))) free[f][t].linear() = source.linear();
       if (static_cast<int>(f) < contacts.feet && contacts.at(static_cast<int64_t>(t), static_cast<int>(f))) {
         planted_lowest.push_back(LowestPoint(soles[f], free[f][t]));
       }
@@ -283,7 +287,8 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   }
   const std::vector<std::vector<Eigen::Isometry3d>> free = FreePoses(soles, contacts, tracked, source_feet);
   for (size_t f = 0; f < foot_count; ++f) {
-    FootTargets(soles[f], free[f], contacts.phases, static_cast<int>(f), time_s, options.blend, target[f], corrected[f]);
+    FootTargets(soles[f], free[f], contacts.phases, static_cast<int>(f), time_s, options.blend, options.roll_with_source,
+                target[f], corrected[f]);
     changed[f].resize(static_cast<size_t>(frames));
     for (int64_t t = 0; t < frames; ++t) {
       const Correction moved = Between(target[f][static_cast<size_t>(t)], tracked[f][static_cast<size_t>(t)]);
@@ -304,7 +309,9 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     for (int64_t t = 0; t < frames; ++t) {
       bool any = false;
       for (size_t f = 0; f < foot_count; ++f) {
-        active[f] = changed[f][static_cast<size_t>(t)];
+        // Only a foot a contact (or the floor) moved asks for reach: one that merely follows the source
+        // where the IK did not put it is where the capture's own leg was, and a straight leg may stay so.
+        active[f] = corrected[f][static_cast<size_t>(t)];
         frame_targets[f] = target[f][static_cast<size_t>(t)];
         any = any || active[f];
       }
@@ -354,8 +361,16 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       bool rolled = false;
       for (size_t f = 0; f < foot_count; ++f) {
         const Eigen::Isometry3d reached = workspace.findLinkPose(chains[f].foot_link);
-        const bool through_floor = active[f] && LowestPoint(soles[f], reached) < -kFloorTolerance;
-        if (through_floor) frame_targets[f] = RollAboutSoleEdge(soles[f], frame_targets[f], reached), ++out.rolled_foot_frames;
+        const double lowest = LowestPoint(soles[f], reached);
+        const bool through_floor = active[f] && lowest < -kFloorTolerance;
+        // A planted foot rolls onto the edge it pitches towards; any other foot is lifted by its depth (a
+        // swing foot's pitch is the source's, and rolling it turned one unreachable pose into two the leg
+        // then alternated between, 0.4 rad a frame on CMU 05_02).
+        if (through_floor && static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f))) {
+          frame_targets[f] = RollAboutSoleEdge(soles[f], frame_targets[f], reached), ++out.rolled_foot_frames;
+        } else if (through_floor) {
+          frame_targets[f].translation().z() -= lowest;
+        }
         retry[f] = through_floor;
         rolled = rolled || through_floor;
       }

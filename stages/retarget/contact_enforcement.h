@@ -2,18 +2,23 @@
 // the trajectory refinement have tracked the Table I tasks, the source's contact
 // phases are made exact, above every task.
 //
-// 0. Free poses. Outside contact the feet follow the source: each foot's target
-//    is its landmark target (the capture scaled to the robot), moved down so
-//    that the source's planted frames sit on the floor (the median lowest sole
-//    point over them at z = 0), with the tracked orientation where the landmark
-//    has none and the tracked pose where it is missing. The IK's own foot
-//    poses are a compromise with targets the legs cannot reach together (a
-//    pelvis above straight legs), which kept swing feet 1-3 cm off the floor.
+// 0. Free poses. Outside contact the feet follow the source's positions: each
+//    foot's target is its landmark target's position (the capture scaled to
+//    the robot), moved down so that the source's planted frames sit on the floor
+//    (the median lowest sole point over them at z = 0), with the tracked pose's
+//    orientation, and the tracked pose where the landmark is missing. The IK's
+//    own foot positions are a compromise with targets the legs cannot reach
+//    together (a pelvis above straight legs), which kept swing feet 1-3 cm off
+//    the floor; its orientations are kept because the source's foot orientation
+//    is noisy (a CMU dance's foot roll jitters by 0.5 rad between frames, which
+//    an exact leg solve reproduces and the IK's weighting smooths away).
 // 1. Planted poses. During each contact phase the foot's sole lies flat on
 //    z = 0 and does not move: its yaw is the circular mean of the foot's yaw over
 //    the phase and its sole centre the mean of the sole centre's horizontal
 //    position (of the free poses), so the plant sits where the source put the
-//    foot and the correction is as small as it can be.
+//    foot and the correction is as small as it can be. With `roll_with_source`,
+//    where the source foot pitches within the phase (heel strike, toe-off), the
+//    plant rolls with it about its heel or toe edge, which stays put on the floor.
 // 2. Blending. Outside a phase the correction (planted pose ⊖ tracked pose, as a
 //    translation and a rotation vector) fades with a cubic ease over `blend`
 //    seconds, or over the gap to the next phase of that foot when it is shorter,
@@ -54,7 +59,8 @@ struct ContactEnforcementOptions {
   double blend = 0.1;               // s
   double stance_knee = 0.15;        // rad a corrected leg's knee keeps (human stance knees bend 5-20°)
   double max_lowering = 0.2;        // of the straight leg
-  double lowering_smoothing = 0.1;  // s
+  double lowering_smoothing = 0.2;  // s: 0.1 s bobbed the pelvis every step (bundled walk on the human model 4.0 W/kg; 3.7 at 0.2)
+  bool roll_with_source = false;    // planted feet pitch with the source about their heel or toe edge
 
   bool IsValid(std::string* error) const;
 };

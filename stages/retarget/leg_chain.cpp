@@ -26,6 +26,8 @@ LegChain FindLegChain(const Model& model, Workspace& workspace, const std::strin
   if (chain.foot_link < 0) throw DataError(Location::InFile(map_file), "foot link " + foot_link + " is not in the model");
   const std::vector<ModelJoint>& joints = model.joints();
   const std::vector<bool>& actuated = model.actuatedVelocities();
+  const Eigen::VectorXd retarget_lower = RetargetLowerLimits(model);
+  const std::vector<bool> branch = BranchCoordinates(model);
   std::string link = foot_link;
   std::string top_child;
   // Up from the foot: fixed joints are passed through, actuated one-dof joints collected, and the first
@@ -41,14 +43,16 @@ LegChain FindLegChain(const Model& model, Workspace& workspace, const std::strin
       }
       chain.q_index.push_back(joint->q_index);
       chain.u_index.push_back(joint->u_index);
-      const double lower = model.qLower()[joint->q_index], upper = model.qUpper()[joint->q_index];
-      const bool branch = IsBranchJoint(joint->type != "prismatic", lower, upper);
-      chain.lower.push_back(branch ? 0.0 : lower);
-      chain.upper.push_back(upper);
-      chain.branch.push_back(branch);
+      chain.lower.push_back(retarget_lower[joint->q_index]);
+      chain.upper.push_back(model.qUpper()[joint->q_index]);
+      chain.branch.push_back(branch[static_cast<size_t>(joint->q_index)]);
       top_child = joint->child;
     }
     link = joint->parent;
+  }
+  if (chain.q_index.size() > static_cast<size_t>(kMaxLegJoints)) {
+    throw DataError(Location::InFile(map_file), "the leg of " + foot_link + " has " + std::to_string(chain.q_index.size()) +
+                                                    " actuated joints; at most " + std::to_string(kMaxLegJoints) + " are solved");
   }
   if (chain.q_index.empty()) {
     throw DataError(Location::InFile(map_file), "foot link " + foot_link + " has no actuated joint above it");
@@ -80,8 +84,8 @@ LegSolveResult LegSolver::solve(Workspace& workspace, const std::vector<Eigen::I
                                 const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor) {
   LegSolveResult result;
   Eigen::Matrix<double, 6, 1> error, trial_error;
-  Eigen::Matrix<double, 6, 6> normal;
-  Eigen::Matrix<double, 6, 1> multiplier;
+  ChainMatrix normal;
+  ChainVector gradient, step;
   for (size_t c = 0; c < chains_.size(); ++c) {
     if (!active[c]) continue;
     const LegChain& chain = chains_[c];
@@ -89,7 +93,11 @@ LegSolveResult LegSolver::solve(Workspace& workspace, const std::vector<Eigen::I
     const auto lower_of = [&](size_t k) { return chain.branch[k] ? std::max(chain.lower[k], branch_floor) : chain.lower[k]; };
     for (size_t k = 0; k < chain.size(); ++k) {
       double& joint = q[chain.q_index[k]];
-      if (chain.branch[k] && joint < lower_of(k) + 0.5 * kBranchStart) joint = lower_of(k) + kBranchStart;
+      // A branch joint that starts below its floor (the IK's knee on the mirrored side) starts bent instead;
+      // one on the floor is a straight leg carried over from the previous frame and stays where it is, or a
+      // straight-legged frame would restart bent and land on another of the poses equally near an
+      // unreachable target (0 <-> 0.46 rad a frame on CMU 05_02).
+      if (chain.branch[k] && joint < lower_of(k)) joint = lower_of(k) + kBranchStart;
       joint = std::clamp(joint, lower_of(k), chain.upper[k]);
     }
     workspace.setQ(q);
@@ -106,18 +114,20 @@ LegSolveResult LegSolver::solve(Workspace& workspace, const std::vector<Eigen::I
         chain_jacobian_.col(j).head<3>() = options_.angle_scale * jacobian_.col(chain.u_index[static_cast<size_t>(j)]).head<3>();
         chain_jacobian_.col(j).tail<3>() = jacobian_.col(chain.u_index[static_cast<size_t>(j)]).tail<3>();
       }
-      normal.noalias() = chain_jacobian_.leftCols(n) * chain_jacobian_.leftCols(n).transpose();
+      // Gauss-Newton on ‖e − J δ‖², Levenberg-damped: (JᵀJ + λ I) δ = Jᵀe, with λ raised until a step lowers
+      // the error.
+      normal.noalias() = chain_jacobian_.leftCols(n).transpose() * chain_jacobian_.leftCols(n);
+      gradient.noalias() = chain_jacobian_.leftCols(n).transpose() * error;
       bool improved = false;
-      // Minimum-norm steps δ = Jᵀ (J Jᵀ + λ I)⁻¹ e, with λ raised until one lowers the error.
       for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
-        Eigen::Matrix<double, 6, 6> damped = normal;
+        ChainMatrix damped = normal;
         damped.diagonal().array() += damping;
-        multiplier = damped.ldlt().solve(error);
+        step = damped.ldlt().solve(gradient);
         for (Eigen::Index j = 0; j < n; ++j) {
           const size_t k = static_cast<size_t>(j);
           saved_[k] = q[chain.q_index[k]];
-          const double step = std::clamp(chain_jacobian_.col(j).dot(multiplier), -options_.max_step, options_.max_step);
-          q[chain.q_index[k]] = std::clamp(saved_[k] + step, lower_of(k), chain.upper[k]);
+          q[chain.q_index[k]] = std::clamp(saved_[k] + std::clamp(step[j], -options_.max_step, options_.max_step),
+                                           lower_of(k), chain.upper[k]);
         }
         workspace.setQ(q);
         const double trial_cost = chainError(workspace, c, targets[c], trial_error);

@@ -35,11 +35,13 @@ struct LegChain {
 [[nodiscard]] LegChain FindLegChain(const Model& model, Workspace& workspace, const std::string& foot_link,
                                     const std::string& map_file);
 
+inline constexpr int kMaxLegJoints = 8;
+
 struct LegSolveOptions {
   int max_iterations = 30;
   double position_tolerance = 1e-6;  // m: a thousandth of a millimetre
   double angle_tolerance = 1e-5;     // rad
-  double damping = 1e-4;             // initial Levenberg–Marquardt damping of the 6×6 normal matrix
+  double damping = 1e-4;             // initial Levenberg–Marquardt damping
   double angle_scale = 0.1;          // m per rad: how angle errors weigh against position errors
   double max_step = 0.3;             // rad per iteration and joint: keeps an early step on its branch
 };
@@ -72,6 +74,9 @@ class LegSolver {
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> chain_jacobian_;
   std::vector<double> saved_;
+  // Fixed capacity: no allocation per solve.
+  using ChainMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxLegJoints, kMaxLegJoints>;
+  using ChainVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxLegJoints, 1>;
 };
 
 }  // namespace syn

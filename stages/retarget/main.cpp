@@ -92,6 +92,14 @@ int main(int argc, char** argv) {
   app.add_option("--lowering-smoothing", options.enforcement.lowering_smoothing,
                  "Half-width (s) of the smoothing of the base lowering (never below what reach needs)")
       ->capture_default_str();
+  app.add_option("--heading-from-pelvis", options.heading_from_pelvis,
+                 "Take the heading from the pelvis frame averaged over the capture (a mid-stride reference frame turns "
+                 "the feet's left-right vector; use with --enforce-contacts)")
+      ->capture_default_str();
+  app.add_option("--roll-with-source", options.enforcement.roll_with_source,
+                 "Planted feet pitch with the source about their heel or toe edge (heel strike, toe-off) instead of "
+                 "staying flat; the sole centre then moves with the roll")
+      ->capture_default_str();
   app.add_option("--max-bridge", options.max_bridge,
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")
       ->capture_default_str();

