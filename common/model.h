@@ -47,6 +47,10 @@ struct ModelJoint {
   std::string child;
   int q_index = -1;    // first coordinate, -1 for fixed
   int u_index = -1;    // first velocity, -1 for fixed
+  // The URDF's joint frame in the parent link frame (the child link's frame at zero motion) and its axis
+  // in that frame; identity and x for the added free base.
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();
 };
 
 class Model {

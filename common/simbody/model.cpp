@@ -224,7 +224,7 @@ Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
   for (size_t j = 0; j < urdf.joints.size(); ++j) {
     const UrdfJoint& joint = urdf.joints[j];
     static const char* kTypeNames[] = {"revolute", "continuous", "prismatic", "fixed", "floating"};
-    ModelJoint entry{joint.name, kTypeNames[static_cast<int>(joint.type)], joint.parent, joint.child, -1, -1};
+    ModelJoint entry{joint.name, kTypeNames[static_cast<int>(joint.type)], joint.parent, joint.child, -1, -1, joint.origin, joint.axis};
     const auto found = body_of_joint.find(static_cast<int>(j));
     if (found != body_of_joint.end()) {
       const SimTK::MobilizedBody& mobod = impl->matter.getMobilizedBody(mobilized[found->second]);

@@ -250,6 +250,7 @@ bool ContactEnforcementOptions::IsValid(std::string* error) const {
   if (!(stance_knee >= 0 && stance_knee < 1.5)) return fail("--stance-knee must be in [0, 1.5) rad");
   if (!(max_lowering >= 0 && max_lowering < 1)) return fail("--max-lowering must be in [0, 1) (a fraction of the leg)");
   if (!(lowering_smoothing >= 0)) return fail("--lowering-smoothing must be >= 0 s");
+  if (!(velocity_limit_scale >= 0)) return fail("--velocity-limit-scale must be >= 0 (0: unbounded)");
   return true;
 }
 
@@ -320,10 +321,9 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       ContinueLegs(chains, previous, t - 1 == previous_frame, frame_q);
       solver.solve(workspace, frame_targets, active, frame_q, options.stance_knee);
       previous = frame_q, previous_frame = t;
-      workspace.setQ(frame_q);
       for (size_t f = 0; f < foot_count; ++f) {
         if (!active[f]) continue;
-        const Eigen::Vector3d reached = workspace.findLinkPose(chains[f].foot_link).translation();
+        const Eigen::Vector3d reached = solver.reached(f).translation();
         const Eigen::Vector3d& wanted = frame_targets[f].translation();
         if ((reached - wanted).norm() < 1e-3) continue;
         const Eigen::Vector3d& hip_at = hip[f][static_cast<size_t>(t)];
@@ -343,7 +343,10 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   int64_t iterations = 0;
   std::vector<bool> retry(foot_count);
   previous_frame = -2;
+  Eigen::VectorXd before(nq);  // the previous frame, final: the velocity limits' centre
   for (int64_t t = 0; t < frames; ++t) {
+    if (t > 0) before = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>((t - 1) * nq)], nq);
+    const double step_time = t > 0 ? options.velocity_limit_scale * (time_s[static_cast<size_t>(t)] - time_s[static_cast<size_t>(t - 1)]) : 0.0;
     const double drop = lowering[static_cast<size_t>(t)];
     bool any = drop > 1e-9;
     for (size_t f = 0; f < foot_count; ++f) any = any || changed[f][static_cast<size_t>(t)];
@@ -355,14 +358,15 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       frame_targets[f] = target[f][static_cast<size_t>(t)];
       active[f] = drop > 1e-9 || changed[f][static_cast<size_t>(t)];
     }
-    LegSolveResult solved = solver.solve(workspace, frame_targets, active, frame_q);
+    LegSolveResult solved = solver.solve(workspace, frame_targets, active, frame_q, 0.0, &before, step_time);
     for (int round = 0; round < 5; ++round) {
-      workspace.setQ(frame_q);
       bool rolled = false;
       for (size_t f = 0; f < foot_count; ++f) {
-        const Eigen::Isometry3d reached = workspace.findLinkPose(chains[f].foot_link);
+        retry[f] = false;
+        if (!active[f]) continue;
+        const Eigen::Isometry3d& reached = solver.reached(f);
         const double lowest = LowestPoint(soles[f], reached);
-        const bool through_floor = active[f] && lowest < -kFloorTolerance;
+        const bool through_floor = lowest < -kFloorTolerance;
         // A planted foot rolls onto the edge it pitches towards; any other foot is lifted by its depth (a
         // swing foot's pitch is the source's, and rolling it turned one unreachable pose into two the leg
         // then alternated between, 0.4 rad a frame on CMU 05_02).
@@ -375,11 +379,37 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
         rolled = rolled || through_floor;
       }
       if (!rolled) break;
-      const LegSolveResult again = solver.solve(workspace, frame_targets, retry, frame_q);
+      const LegSolveResult again = solver.solve(workspace, frame_targets, retry, frame_q, 0.0, &before, step_time);
       solved.iterations += again.iterations;
       // The worst of either solve: a rolled foot's first error was against the flat pose it gave up.
       solved.position_error = std::max(solved.position_error, again.position_error);
       solved.angle_error = std::max(solved.angle_error, again.angle_error);
+    }
+    // What still leaves a sole in the floor is a leg its limits keep from the target: the ankle cannot
+    // pitch the foot flat (a running stance foot), or the leg cannot move that fast (the base dropping
+    // faster than a knee can bend, as where a take's first frames leave the reference stance). The foot
+    // then stands on its lowest point instead: its target rises by the depth, and from the second round
+    // the base rises with it (above the pelvis task, as contacts rank above every task).
+    for (int round = 0; round < 3; ++round) {
+      double deepest = 0.0;
+      for (size_t f = 0; f < foot_count; ++f) {
+        retry[f] = false;
+        if (!active[f]) continue;
+        const double lowest = LowestPoint(soles[f], solver.reached(f));
+        if (lowest >= -kFloorTolerance) continue;
+        frame_targets[f].translation().z() -= lowest;
+        retry[f] = true;
+        deepest = std::min(deepest, lowest);
+      }
+      if (deepest == 0.0) break;
+      if (round == 0) ++out.lifted_frames;
+      if (round > 0 && vertical_coordinate >= 0) {
+        frame_q[vertical_coordinate] -= deepest;
+        for (size_t f = 0; f < foot_count; ++f) retry[f] = active[f];
+        if (round == 1) ++out.raised_frames;
+      }
+      const LegSolveResult again = solver.solve(workspace, frame_targets, retry, frame_q, 0.0, &before, step_time);
+      solved.iterations += again.iterations;
     }
     iterations += solved.iterations;
     ++out.solved_frames;

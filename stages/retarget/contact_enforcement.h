@@ -34,7 +34,12 @@
 //    body moves down with the base.
 // 4. Legs. Each frame whose foot targets differ from where the lowered robot
 //    puts its feet is solved exactly for those feet by the leg chains
-//    (leg_chain.h), every other joint unchanged. Where the leg's limits leave a
+//    (leg_chain.h), every other joint unchanged, each leg joint within its
+//    velocity limit of the previous frame. Where the limits still leave a sole
+//    in the floor (an ankle that cannot pitch the foot flat, a knee that
+//    cannot bend as fast as the body drops), the foot stands on its lowest
+//    point instead: its target rises by the depth, and if the leg cannot lift
+//    it there, the base rises too. Where the leg's limits leave a
 //    sole point below the floor (the ankle cannot bend as far as the body passes
 //    over the planted foot), the target rolls about the toe or heel edge the
 //    foot pitches onto, and the leg is solved again.
@@ -61,6 +66,10 @@ struct ContactEnforcementOptions {
   double max_lowering = 0.2;        // of the straight leg
   double lowering_smoothing = 0.2;  // s: 0.1 s bobbed the pelvis every step (bundled walk on the human model 4.0 W/kg; 3.7 at 0.2)
   bool roll_with_source = false;    // planted feet pitch with the source about their heel or toe edge
+  // Leg joints move at most this fraction of their URDF velocity limit per frame (the stage's
+  // --velocity-limit-scale; 0: unbounded): a foot the leg cannot follow that fast falls short (reported)
+  // instead of the leg jumping to another configuration (a knee 0.96 rad in one frame of CMU 05_11).
+  double velocity_limit_scale = 1.0;
 
   bool IsValid(std::string* error) const;
 };
@@ -75,6 +84,8 @@ struct ContactEnforcementReport {
   int64_t worst_frame = -1;
   double mean_iterations = 0.0;         // leg-solver iterations per solved frame
   int64_t rolled_foot_frames = 0;       // foot-frames rolled about a sole edge (a joint limit pitched the foot)
+  int64_t lifted_frames = 0;            // frames with a foot lifted onto its lowest sole point (its leg at a limit)
+  int64_t raised_frames = 0;            // of those, frames whose base rose too (the leg could not lift the foot)
 };
 
 // source_feet[f][t]: foot f's landmark target (NaN translation: missing; NaN in the rotation's first entry:

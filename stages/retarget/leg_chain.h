@@ -7,7 +7,10 @@
 // answer. The solver is damped Gauss-Newton on the foot link's 6-D pose error
 // with the URDF limits clamped after each step, warm-started from the joints
 // it is given: on a leg kept away from full extension that keeps the knee on
-// the side it started on.
+// the side it started on. Its iterations compute the foot pose and Jacobian
+// from the chain's own joint frames (a product of at most a dozen transforms)
+// instead of realising the whole Simbody state: Debian's Simbody runs its
+// checks on every setQ, which made a leg solve cost 100 µs per iteration.
 #pragma once
 
 #include <string>
@@ -20,13 +23,24 @@
 
 namespace syn {
 
+// One joint on the path from the leg's root link down to the foot, fixed joints included.
+struct ChainJoint {
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // joint frame in the parent link frame
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();           // in the joint frame
+  int chain_index = -1;                                      // into LegChain::q_index; -1: fixed
+  bool prismatic = false;
+};
+
 struct LegChain {
   int foot_link = -1;
+  int root_link = -1;                  // the link the leg hangs from: its top joint's parent, unmoved by the leg
   int hip_link = -1;                   // child link of the chain's top joint: its origin is the hip centre
   std::vector<int> q_index, u_index;   // the chain's joints, foot first
   std::vector<double> lower, upper;    // limits per joint: the URDF's, a branch joint's lower one raised to 0
   std::vector<bool> branch;           // branch_joints.h: kept >= 0, a solve near 0 starts from kBranchStart
+  std::vector<double> speed_limit;     // the URDF's velocity limit per joint (rad/s or m/s; +inf where none)
   double length = 0.0;                 // hip-to-foot-origin distance in the model's default (zero) pose
+  std::vector<ChainJoint> path;        // root link to foot link
 
   size_t size() const { return q_index.size(); }
 };
@@ -61,22 +75,34 @@ class LegSolver {
  public:
   LegSolver(const Model& model, std::vector<LegChain> chains, const LegSolveOptions& options = {});
 
+  // Realises the workspace at q once (for the legs' root links); the workspace is left there, not at the answer.
+  // `previous` (nq, or null) with `dt` > 0: each joint stays within its velocity limit × dt of its value there,
+  // the bound the per-frame IK and the refinement keep (a leg that cannot follow its foot that fast falls
+  // short instead of jumping to another branch).
   LegSolveResult solve(Workspace& workspace, const std::vector<Eigen::Isometry3d>& targets,
-                       const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor = 0.0);
+                       const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor = 0.0,
+                       const Eigen::VectorXd* previous = nullptr, double dt = 0.0);
+
+  // Where the last solve left chain c's foot link (ground frame): valid for the chains that solve had active.
+  const Eigen::Isometry3d& reached(size_t c) const { return reached_[c]; }
 
  private:
-  // One chain's weighted pose error at the workspace's configuration.
-  double chainError(const Workspace& workspace, size_t chain, const Eigen::Isometry3d& target,
-                    Eigen::Matrix<double, 6, 1>& error) const;
+  using ChainMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxLegJoints, kMaxLegJoints>;
+  using ChainVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxLegJoints, 1>;
+  using ChainJacobian = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxLegJoints>;
+
+  // Chain c's foot pose at q from its root link's pose, and (when `jacobian`) the foot origin's 6 × n
+  // Jacobian in the chain's joints, rows (angular, linear) with the angular ones scaled by angle_scale.
+  Eigen::Isometry3d footPose(size_t c, const Eigen::Isometry3d& root, const Eigen::VectorXd& q, ChainJacobian* jacobian) const;
+  // The weighted 6-D pose error, (angle_scale × rotation vector, translation), and its squared norm.
+  double poseError(const Eigen::Isometry3d& target, const Eigen::Isometry3d& pose, Eigen::Matrix<double, 6, 1>& error) const;
 
   std::vector<LegChain> chains_;
   LegSolveOptions options_;
-  Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
-  Eigen::Matrix<double, 6, Eigen::Dynamic> chain_jacobian_;
-  std::vector<double> saved_;
-  // Fixed capacity: no allocation per solve.
-  using ChainMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxLegJoints, kMaxLegJoints>;
-  using ChainVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxLegJoints, 1>;
+  std::vector<Eigen::Isometry3d> reached_;
+  // The joints' world frames during footPose (fixed capacity: no allocation per solve).
+  mutable std::vector<Eigen::Vector3d> joint_axis_, joint_position_;
+  std::vector<double> saved_, lower_, upper_;  // per chain joint, for the solve under way
 };
 
 }  // namespace syn

@@ -94,7 +94,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--heading-from-pelvis", options.heading_from_pelvis,
                  "Take the heading from the pelvis frame averaged over the capture (a mid-stride reference frame turns "
-                 "the feet's left-right vector; use with --enforce-contacts)")
+                 "the feet's left-right vector, and planted feet cannot lie flat; false: the feet's and elbows' left-right "
+                 "vector at the reference frame)")
       ->capture_default_str();
   app.add_option("--roll-with-source", options.enforcement.roll_with_source,
                  "Planted feet pitch with the source about their heel or toe edge (heel strike, toe-off) instead of "

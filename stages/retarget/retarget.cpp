@@ -749,7 +749,8 @@ std::string RetargetSummary::BriefReport() const {
           << " mm (" << enforcement.lowered_frames << " frames), " << enforcement.unreachable_frames
           << " frames out of reach, worst foot error " << enforcement.worst_position_error * 1000 << " mm / "
           << enforcement.worst_angle_error * 180 / M_PI << " deg, " << enforcement.rolled_foot_frames
-          << " foot-frames rolled onto a sole edge";
+          << " foot-frames rolled onto a sole edge, " << enforcement.lifted_frames
+          << " frames with a foot lifted onto its lowest point (" << enforcement.raised_frames << " with the base)";
     }
   }
   return out.str();
@@ -841,8 +842,10 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
     const int64_t vertical = VerticalCoordinate(
         model, q_first, [&](const Eigen::VectorXd& at) { return LowestSolePoint(model, workspace, map, at); });
     const auto enforce_start = std::chrono::steady_clock::now();
+    ContactEnforcementOptions enforcement = options.enforcement;
+    enforcement.velocity_limit_scale = options.velocity_limit_scale;
     EnforceContacts(model, workspace, map.feet, contacts, SourceFootPoses(motion, FootTasks(map, model, landmarks, tasks)),
-                    vertical, motion.time_s, map.file, options.enforcement, motion.q, &report.enforcement);
+                    vertical, motion.time_s, map.file, enforcement, motion.q, &report.enforcement);
     report.refinement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - enforce_start).count();
     report.contacts_enforced = true;
   }

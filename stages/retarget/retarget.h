@@ -62,15 +62,12 @@ struct RetargetOptions {
   // and measured on the result (stance drift, penetration, foot skating).
   ContactDetectionOptions contact;
   // Contacts as constraints above every task (contact_enforcement.h): planted soles flat on the floor and
-  // still, no sole point below it, the base lowered where a planted leg cannot reach. Off by default until it
-  // keeps the URDF velocity limits (knee steps up to 0.96 rad in one 120 Hz frame on CMU trials) and
-  // syn-simulate tracks its motions under effort limits (issue 17's note): false = measured only.
-  bool enforce_contacts = false;
+  // still, no sole point below it, the base lowered where a planted leg cannot reach. false: measured only.
+  bool enforce_contacts = true;
   // The heading from the pelvis frame averaged over the capture instead of the feet's and elbows'
   // left-right vector at the reference frame, which mid-stride is turned by the stride (the demo walk went
-  // 40° crabwise, and planted feet then cannot lie flat). Off by default for the same reason as
-  // enforce_contacts: on HRP-4C it turns one C3D capture's virtual base yaw through π in a frame (85_02).
-  bool heading_from_pelvis = false;
+  // 40° crabwise, and planted feet then cannot lie flat).
+  bool heading_from_pelvis = true;
   ContactEnforcementOptions enforcement;
 
   bool IsValid(std::string* error) const;

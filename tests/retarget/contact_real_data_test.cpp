@@ -209,9 +209,7 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
     options.model = robot.urdf;
     options.robot_map = robot.map;
     options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
-    options.enforce_contacts = true;
-  options.heading_from_pelvis = true;
-    RetargetSummary summary;
+    RetargetSummary summary;  // contacts enforced, heading from the pelvis: the defaults
     const MotionData motion = RetargetFile(markers, options, &summary);
     const ContactCheck check = CheckContacts(motion, robot, fk, free_base);
     ++trials;
@@ -278,11 +276,13 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoG1) {
 #endif
   SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
   const SweepResult result = CheckEveryWalkAndDance(G1(), true);
-  // Issue 17 asks for every trial; today (contacts enforced) 22 of 32 meet the floor bound and 30 the skating
-  // one: the misses are runs and floor-level dances (08_07, 94_07, 60_02, ...; see the issue note). Guarded so
-  // they do not get worse, and the stance drift over all phases held to the issue's bounds.
-  EXPECT_GE(result.floor_met, 22);
-  EXPECT_GE(result.skating_met, 29);
+  // Issue 17 asks for every trial; today all 32 meet the floor bound (a foot its leg's limits leave in the
+  // floor stands on its lowest sole point) and 29 the skating one: the misses are a run and floor-level dances
+  // (05_11, 08_07, 94_07; see the issue note). Guarded a trial below today's counts, so that a different
+  // machine's rounding on a borderline trial does not fail it, and the stance drift over all phases held to
+  // the issue's median bound.
+  EXPECT_GE(result.floor_met, 31);
+  EXPECT_GE(result.skating_met, 28);
   EXPECT_LE(Quantile(result.drift, 0.5), 0.010);
 }
 

@@ -166,9 +166,12 @@ TEST(RetargetRealData, EveryCaptureOntoG1) {
   GTEST_SKIP() << "the real-data retarget sweep runs in the Release test run, not under the sanitizers";
 #endif
   SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
-  // Measured (build/bin/test_retarget --gtest_filter=RetargetRealData.EveryCaptureOntoG1, 2026-11-23): the
-  // median of the 55 captures' P1 medians is 43 mm; the worst median 102 mm (08_07.bvh), the worst p95 328 mm.
-  SweepOnto({"G1", testing::SourcePath(testing::kG1Urdf), testing::SourcePath(testing::kG1Map), 120.0, 400.0});
+  // Measured (build/bin/test_retarget --gtest_filter=RetargetRealData.EveryCaptureOntoG1, 2026-11-24, contacts
+  // enforced and the heading from the pelvis, both default since): the median of the captures' P1 medians is
+  // 44 mm (43 before); the worst median 131 mm (09_11.bvh, a run: 102 before, on 08_07), the worst p95 400 mm
+  // (08_07, 328 before). Contacts rank above the P1 tasks: planted feet stay where the stance began and the
+  // pelvis comes down where a bent stance knee needs it, so running captures track their P1 targets less well.
+  SweepOnto({"G1", testing::SourcePath(testing::kG1Urdf), testing::SourcePath(testing::kG1Map), 150.0, 450.0});
 }
 
 TEST(RetargetRealData, EveryCaptureOntoHrp4c) {
@@ -177,11 +180,12 @@ TEST(RetargetRealData, EveryCaptureOntoHrp4c) {
 #endif
   SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
   SYN_REQUIRE_SHARED("robots/humanoid_synergies/HRP4c_optitrack_model.urdf");
-  // Measured as for the G1: worst median 269 mm (08_07.bvh; 94_15 231, 03_02 230), worst p95 581 mm (08_07).
-  // These are today's HRP-4C numbers, far worse than the G1's: the bound stops them getting worse and is to be
-  // tightened when the retargeter tracks HRP-4C as well as the G1.
+  // Measured as for the G1: worst median 320 mm (08_07.bvh; 09_01 319), worst p95 669 mm (08_07); with the
+  // feet's heading and no contact enforcement they were 269 and 581. These are today's HRP-4C numbers, far
+  // worse than the G1's (its map's single scale puts running strides beyond its legs, issue 17 item 3): the
+  // bound stops them getting worse and is to be tightened when the retargeter tracks HRP-4C as well as the G1.
   SweepOnto({"HRP-4C", testing::SharedPath("robots/humanoid_synergies/HRP4c_optitrack_model.urdf"),
-             testing::SourcePath("manifests/robots/hrp4c.toml"), 300.0, 650.0});
+             testing::SourcePath("manifests/robots/hrp4c.toml"), 360.0, 750.0});
 }
 
 // OptiTrack's older leg-only export (12 Foot/Knee/Leg markers) cannot drive a whole humanoid: the stage

@@ -256,7 +256,7 @@ TEST(RetargetSameRobotRoundTrip, EveryG1MotionComesBackToItsJointAngles) {
     }
 
     for (const bool enforce : {true, false}) {
-      SCOPED_TRACE(enforce ? "enforce_contacts = true" : "enforce_contacts = false (default)");
+      SCOPED_TRACE(enforce ? "enforce_contacts = true (default)" : "enforce_contacts = false");
       RetargetOptions options;
       options.model = urdf;
       options.robot_map = map_path;
@@ -285,13 +285,13 @@ TEST(RetargetSameRobotRoundTrip, EveryG1MotionComesBackToItsJointAngles) {
       RecordProperty(key + "_max_deg", std::to_string(errors.max));
       RecordProperty(key + "_worst", errors.worst_joint + " frame " + std::to_string(errors.worst_frame));
       // Issue 17's bound (p95 <= 0.5 deg, max <= 2 deg) is NOT met yet, with or without contact enforcement.
-      // Without it (the default) the per-frame IK lets knees cross to their −5° limit and lock there whenever
-      // the source knee is below ~50° (branch issue-17-enforce keeps them >= 0 and brings this to p95 2-10°,
-      // but changes syn-simulate's results); with it the legs are re-solved with knees kept bent, but the
+      // Without it the per-frame IK lets knees cross to their −5° limit and lock there whenever the source knee
+      // is below ~50° (branch issue-17-enforce keeps them >= 0 and brings this to p95 2-10°, but changes
+      // syn-simulate's results); with it (the default) the legs are re-solved with knees kept bent, but the
       // Kimodo motions' own planted feet slide 8-25 mm and stand 3-4 cm below the map's soles, so exact
       // contacts must bend their legs. The verdict is printed; what is asserted is today's level, so nothing
-      // gets worse unnoticed (measured without enforcement: median 0.3-3.8, p95 15.8-38.1, max 56-83 deg;
-      // with it: median 0.5-3.2, p95 12.0-15.3, max 29.5-39.5 deg).
+      // gets worse unnoticed (measured 2026-11-24 without enforcement: median 0.3-3.8, p95 15.8-38.1, max
+      // 56-83 deg; with it: median 0.5-3.2, p95 12.0-15.4, max 29.5-39.5 deg).
       const bool met = errors.p95 <= 0.5 && errors.max <= 2.0;
       std::cout << "    issue 17 round-trip bound (p95 <= 0.5, max <= 2 deg): " << (met ? "met" : "NOT met") << "\n";
       EXPECT_LE(errors.median, enforce ? 3.5 : 4.0) << stem << ": joint error median (deg)";
