@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/model.h"
+#include "common/robot_map.h"
 #include "stages/retarget/leg_chain.h"
 #include "tests/support/shared_data.h"
 
@@ -66,6 +67,63 @@ TEST_F(LegChainTest, ReachableFootPoseIsSolvedExactlyAndNothingElseMoves) {
   EXPECT_LT(result.angle_error, 1e-6);
   EXPECT_LT(result.iterations, 15);
   for (int i = 0; i < model_.nq(); ++i) EXPECT_NEAR(q[i], goal[i], 1e-5) << model_.coordinateNames()[static_cast<size_t>(i)];
+}
+
+// The solver's own chain FK (URDF joint frames) against Simbody's, where the leg ends after a solve that
+// cannot reach its target, and each joint kept within its velocity limit of the previous frame.
+TEST_F(LegChainTest, ReachedPoseIsSimbodysAndTheVelocityBoxHolds) {
+  std::vector<LegChain> chains = {FindLegChain(model_, workspace_, "left_ankle_roll_link", "g1.toml")};
+  Eigen::VectorXd previous = model_.defaultQ();
+  previous.segment<3>(4) = Eigen::Vector3d(0.1, 0.2, 0.75);
+  previous[Coordinate("left_knee_joint")] = 0.4, previous[Coordinate("left_hip_pitch_joint")] = -0.3;
+  workspace_.setQ(previous);
+  Eigen::Isometry3d far = workspace_.findLinkPose(chains[0].foot_link);
+  far.translation() += Eigen::Vector3d(0.3, 0.1, 0.2);  // a big step in one frame
+  Eigen::VectorXd q = previous;
+  LegSolver solver(model_, chains);
+  const double dt = 1.0 / 120.0;
+  solver.solve(workspace_, {far}, {true}, q, 0.0, &previous, dt);
+  for (size_t k = 0; k < chains[0].size(); ++k) {
+    const int index = chains[0].q_index[k];
+    EXPECT_LE(std::abs(q[index] - previous[index]), chains[0].speed_limit[k] * dt + 1e-12) << model_.coordinateNames()[static_cast<size_t>(index)];
+  }
+  workspace_.setQ(q);
+  const Eigen::Isometry3d simbody = workspace_.findLinkPose(chains[0].foot_link);
+  EXPECT_LT((solver.reached(0).translation() - simbody.translation()).norm(), 1e-12);
+  EXPECT_LT((solver.reached(0).linear() - simbody.linear()).norm(), 1e-12);
+  // Without the box the same step is reached.
+  Eigen::VectorXd free = previous;
+  const LegSolveResult unbounded = solver.solve(workspace_, {far}, {true}, free);
+  EXPECT_LT(unbounded.position_error, 1e-6);
+}
+
+// HRP-4C: a virtual floating base (six massless joints) above the legs, and its own joint frames.
+TEST(LegChainHrp4c, ReachedPoseIsSimbodys) {
+  SYN_REQUIRE_SHARED("robots/humanoid_synergies/HRP4c_optitrack_model.urdf");
+  const Model model = Model::Load(testing::SharedPath("robots/humanoid_synergies/HRP4c_optitrack_model.urdf"));
+  Workspace workspace(model);
+  const RobotMap map = LoadRobotMap(testing::SourcePath("manifests/robots/hrp4c.toml"));
+  std::vector<LegChain> chains;
+  for (const RobotFoot& foot : map.feet) chains.push_back(FindLegChain(model, workspace, foot.link, "hrp4c.toml"));
+  ASSERT_EQ(chains.size(), 2u);
+  Eigen::VectorXd q = model.defaultQ();
+  for (int i = 0; i < model.nq(); ++i) q[i] = 0.1 * std::sin(1.7 * i + 0.3);  // every joint off zero, base too
+  workspace.setQ(q);
+  std::vector<Eigen::Isometry3d> targets;
+  for (const LegChain& chain : chains) {
+    Eigen::Isometry3d target = workspace.findLinkPose(chain.foot_link);
+    target.translation().z() += 0.05;
+    targets.push_back(target);
+  }
+  LegSolver solver(model, chains);
+  solver.solve(workspace, targets, {true, true}, q);
+  workspace.setQ(q);
+  for (size_t c = 0; c < chains.size(); ++c) {
+    const Eigen::Isometry3d simbody = workspace.findLinkPose(chains[c].foot_link);
+    EXPECT_LT((solver.reached(c).translation() - simbody.translation()).norm(), 1e-12);
+    EXPECT_LT((solver.reached(c).linear() - simbody.linear()).norm(), 1e-12);
+    EXPECT_LT((simbody.translation() - targets[c].translation()).norm(), 1e-5);  // a 5 cm lift is reachable
+  }
 }
 
 TEST_F(LegChainTest, InactiveChainIsLeftAlone) {
