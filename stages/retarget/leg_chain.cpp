@@ -84,9 +84,8 @@ LegChain FindLegChain(const Model& model, Workspace& workspace, const std::strin
   return chain;
 }
 
-LegSolver::LegSolver(const Model& model, std::vector<LegChain> chains, const LegSolveOptions& options)
+LegSolver::LegSolver(std::vector<LegChain> chains, const LegSolveOptions& options)
     : chains_(std::move(chains)), options_(options), reached_(chains_.size(), Eigen::Isometry3d::Identity()) {
-  (void)model;
   size_t widest = 0, longest = 0;
   for (const LegChain& chain : chains_) widest = std::max(widest, chain.size()), longest = std::max(longest, chain.path.size());
   saved_.resize(widest);

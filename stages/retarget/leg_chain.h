@@ -73,7 +73,7 @@ struct LegSolveResult {
 // (0, or a flexion to keep).
 class LegSolver {
  public:
-  LegSolver(const Model& model, std::vector<LegChain> chains, const LegSolveOptions& options = {});
+  explicit LegSolver(std::vector<LegChain> chains, const LegSolveOptions& options = {});
 
   // Realises the workspace at q once (for the legs' root links); the workspace is left there, not at the answer.
   // `previous` (nq, or null) with `dt` > 0: each joint stays within its velocity limit × dt of its value there,

@@ -61,7 +61,7 @@ TEST_F(LegChainTest, ReachableFootPoseIsSolvedExactlyAndNothingElseMoves) {
   for (const LegChain& chain : chains) {
     for (int index : chain.q_index) q[index] = 0.0;
   }
-  LegSolver solver(model_, chains);
+  LegSolver solver(chains);
   const LegSolveResult result = solver.solve(workspace_, targets, {true, true}, q);
   EXPECT_LT(result.position_error, 1e-6);
   EXPECT_LT(result.angle_error, 1e-6);
@@ -80,7 +80,7 @@ TEST_F(LegChainTest, ReachedPoseIsSimbodysAndTheVelocityBoxHolds) {
   Eigen::Isometry3d far = workspace_.findLinkPose(chains[0].foot_link);
   far.translation() += Eigen::Vector3d(0.3, 0.1, 0.2);  // a big step in one frame
   Eigen::VectorXd q = previous;
-  LegSolver solver(model_, chains);
+  LegSolver solver(chains);
   const double dt = 1.0 / 120.0;
   solver.solve(workspace_, {far}, {true}, q, 0.0, &previous, dt);
   for (size_t k = 0; k < chains[0].size(); ++k) {
@@ -115,7 +115,7 @@ TEST(LegChainHrp4c, ReachedPoseIsSimbodys) {
     target.translation().z() += 0.05;
     targets.push_back(target);
   }
-  LegSolver solver(model, chains);
+  LegSolver solver(chains);
   solver.solve(workspace, targets, {true, true}, q);
   workspace.setQ(q);
   for (size_t c = 0; c < chains.size(); ++c) {
@@ -131,7 +131,7 @@ TEST_F(LegChainTest, InactiveChainIsLeftAlone) {
   Eigen::VectorXd q = model_.defaultQ();
   q[Coordinate("left_knee_joint")] = 0.5;
   const Eigen::VectorXd before = q;
-  LegSolver solver(model_, chains);
+  LegSolver solver(chains);
   solver.solve(workspace_, {Eigen::Isometry3d::Identity()}, {false}, q);
   EXPECT_EQ(q, before);
 }

@@ -15,6 +15,7 @@
 #include "stages/retarget/retarget.h"
 #include "common/robot_map.h"
 #include "tests/support/shared_data.h"
+#include "tests/support/standing_pose.h"
 
 namespace syn {
 namespace {
@@ -38,17 +39,9 @@ class RetargetGroundTruth : public ::testing::Test {
 TEST_F(RetargetGroundTruth, SmoothG1TrajectoryIsRecovered) {
   const Model model = Model::Load(urdf_);
   const RobotMap map = LoadRobotMap(map_path_);
+  // The reference stance as the robot map defines it: zero pose, soles on the ground.
+  const Eigen::VectorXd q_ref = testing::StandingZeroPose(model, map);
   Workspace workspace(model);
-  // The reference stance as the robot map defines it: zero pose, soles on the ground (computed here from
-  // the map's sole points).
-  Eigen::VectorXd q_ref = model.defaultQ();
-  workspace.setQ(q_ref);
-  double lowest = 1e9;
-  for (const RobotFoot& foot : map.feet) {
-    const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
-    for (const auto& p : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(p[0], p[1], p[2])).z());
-  }
-  q_ref[6] = -lowest;
 
   // q(t) = q_ref + smooth sines that start at zero, kept inside the joint limits.
   const int frames = 240;

@@ -36,6 +36,7 @@
 #include "tests/support/demo_motion.h"
 #include "tests/support/independent_fk.h"
 #include "tests/support/shared_data.h"
+#include "tests/support/standing_pose.h"
 
 namespace syn {
 namespace {
@@ -63,21 +64,6 @@ std::vector<fs::path> G1Motions() {
   }
   std::sort(files.begin(), files.end());
   return files;
-}
-
-// The robot map's reference stance: the zero pose (identity base orientation, every joint 0) with the base
-// at x = y = 0 and raised until the lowest sole point of the map's feet touches z = 0.
-Eigen::VectorXd StandingZeroPose(const Model& model, const RobotMap& map) {
-  Workspace workspace(model);
-  Eigen::VectorXd q = model.defaultQ();
-  workspace.setQ(q);
-  double lowest = 1e9;
-  for (const RobotFoot& foot : map.feet) {
-    const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
-    for (const auto& p : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(p[0], p[1], p[2])).z());
-  }
-  q[IndexOf(model.coordinateNames(), "base_z")] -= lowest;
-  return q;
 }
 
 // The marker-set TOML of the virtual markers: each landmark's origin on its link's origin, its x and y axes
@@ -222,7 +208,7 @@ TEST(RetargetSameRobotRoundTrip, EveryG1MotionComesBackToItsJointAngles) {
   const fs::path& dir = scratch.path;
   const std::string markerset = (dir / "g1-virtual.toml").string();
   std::ofstream(markerset) << VirtualMarkerSet(map);
-  const Eigen::VectorXd reference = StandingZeroPose(model, map);
+  const Eigen::VectorXd reference = testing::StandingZeroPose(model, map);
 
   for (const fs::path& file : motions) {
     SCOPED_TRACE(file.string());
