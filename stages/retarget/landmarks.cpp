@@ -203,4 +203,15 @@ LandmarkTrajectories ComputeLandmarks(const MarkerData& capture, const MarkerSet
   return result;
 }
 
+LandmarkSample SampleAt(const LandmarkTrajectories& landmarks, int64_t frame, int64_t landmark) {
+  const double* pose = &landmarks.pose[static_cast<size_t>((frame * landmarks.count() + landmark) * 7)];
+  LandmarkSample sample;
+  sample.position = Eigen::Vector3d(pose[0], pose[1], pose[2]);
+  sample.valid = sample.position.allFinite();
+  sample.has_orientation = std::isfinite(pose[3]) && landmarks.has_orientation[static_cast<size_t>(landmark)];
+  sample.orientation = sample.has_orientation ? Eigen::Quaterniond(pose[3], pose[4], pose[5], pose[6]).normalized()
+                                              : Eigen::Quaterniond::Identity();
+  return sample;
+}
+
 }  // namespace syn

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "common/marker_data.h"
 #include "common/marker_set.h"
 
@@ -18,6 +20,16 @@ struct LandmarkTrajectories {
 
   int64_t count() const { return static_cast<int64_t>(names.size()); }
 };
+
+// One landmark in one frame. Missing (NaN position): valid = false. Position only: orientation identity.
+struct LandmarkSample {
+  bool valid = false;
+  bool has_orientation = false;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+};
+
+[[nodiscard]] LandmarkSample SampleAt(const LandmarkTrajectories& landmarks, int64_t frame, int64_t landmark);
 
 // Resolves every point and body name of `set` against the capture once, then
 // builds each landmark's pose per frame. A landmark any of whose points is

@@ -15,41 +15,12 @@
 #include "common/markers_file.h"
 #include "stages/retarget/frame_ik.h"
 #include "stages/retarget/landmarks.h"
+#include "stages/retarget/stance_alignment.h"
 #include "stages/retarget/trajectory_refinement.h"
 #include "stages/retarget/velocity_estimation.h"
 
 namespace syn {
 namespace {
-
-struct LandmarkSample {
-  bool valid = false;
-  bool has_orientation = false;
-  Eigen::Vector3d position;
-  Eigen::Quaterniond orientation;
-};
-
-LandmarkSample SampleAt(const LandmarkTrajectories& landmarks, int64_t frame, int64_t landmark) {
-  const double* pose = &landmarks.pose[static_cast<size_t>((frame * landmarks.count() + landmark) * 7)];
-  LandmarkSample sample;
-  sample.position = Eigen::Vector3d(pose[0], pose[1], pose[2]);
-  sample.valid = sample.position.allFinite();
-  sample.has_orientation = std::isfinite(pose[3]) && landmarks.has_orientation[static_cast<size_t>(landmark)];
-  sample.orientation = sample.has_orientation ? Eigen::Quaterniond(pose[3], pose[4], pose[5], pose[6]).normalized()
-                                              : Eigen::Quaterniond::Identity();
-  return sample;
-}
-
-// Rotation about Z that turns the subject's forward direction (left × up) into +X.
-Eigen::Matrix3d HeadingAlignment(const Eigen::Vector3d& left, double* heading) {
-  Eigen::Vector3d forward = left.cross(Eigen::Vector3d::UnitZ());
-  forward.z() = 0;
-  if (forward.norm() < 1e-9) {
-    *heading = 0;
-    return Eigen::Matrix3d::Identity();
-  }
-  *heading = std::atan2(forward.y(), forward.x());
-  return Eigen::AngleAxisd(-*heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-}
 
 // Frames with no target at all kept the previous solution; interpolate them
 // between their neighbours when the gap is short, refuse when it is not.
@@ -216,60 +187,6 @@ Eigen::VectorXd GroundedStance(const Model& model, Workspace& workspace, const R
   return q_ref;
 }
 
-// How capture displacements become robot displacements: turned so the subject faces +X, then scaled.
-struct StanceAlignment {
-  Eigen::Matrix3d heading = Eigen::Matrix3d::Identity();
-  double heading_rad = 0.0;
-  double scale = 1.0;
-};
-
-// A named landmark's position in a frame; false when the marker set has no such landmark or it is missing.
-bool LandmarkPosition(const LandmarkTrajectories& landmarks, const char* name, int64_t frame, Eigen::Vector3d* position) {
-  const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), name);
-  if (found == landmarks.names.end()) return false;
-  const LandmarkSample sample = SampleAt(landmarks, frame, found - landmarks.names.begin());
-  *position = sample.position;
-  return sample.valid;
-}
-
-// The body's right-to-left direction in a frame, from the feet and the elbows (zero when neither pair is there).
-Eigen::Vector3d BodyLeft(const LandmarkTrajectories& landmarks, int64_t frame) {
-  Eigen::Vector3d left = Eigen::Vector3d::Zero(), a, b;
-  for (const auto& [left_name, right_name] : {std::pair{"left_foot", "right_foot"}, {"left_elbow", "right_elbow"}}) {
-    if (LandmarkPosition(landmarks, left_name, frame, &a) && LandmarkPosition(landmarks, right_name, frame, &b)) left += a - b;
-  }
-  return left;
-}
-
-// The subject's left at the reference frame (with heading_from_pelvis). A frame chosen for its landmarks (no --reference-time) is
-// usually mid-motion: mid-stride the feet's left-right vector is turned by the stride, up to 45° on a CMU
-// walk, and the robot then walked crabwise (02_01: 40° between where it faced and where it went). With a
-// pelvis orientation, the left is instead the pelvis frame's axis nearest to the feet's and elbows'
-// left-right vectors averaged over the whole capture in the pelvis frame, taken at the reference frame; the
-// axis is snapped (marker-set and BVH pelvis frames have one pointing left) so an asymmetric motion (a
-// lunge, a turn) cannot bias it.
-Eigen::Vector3d SubjectLeft(const LandmarkTrajectories& landmarks, int64_t reference, const RetargetOptions& options) {
-  const Eigen::Vector3d at_reference = BodyLeft(landmarks, reference);
-  const auto pelvis = std::find(landmarks.names.begin(), landmarks.names.end(), "pelvis");
-  if (!options.heading_from_pelvis || options.reference_time >= 0 || pelvis == landmarks.names.end()) return at_reference;
-  const int64_t pelvis_index = pelvis - landmarks.names.begin();
-  const LandmarkSample pelvis_at_reference = SampleAt(landmarks, reference, pelvis_index);
-  if (!pelvis_at_reference.valid || !pelvis_at_reference.has_orientation) return at_reference;
-  Eigen::Vector3d mean_left = Eigen::Vector3d::Zero();
-  for (int64_t t = 0; t < landmarks.frames; ++t) {
-    const LandmarkSample pelvis_sample = SampleAt(landmarks, t, pelvis_index);
-    const Eigen::Vector3d left = BodyLeft(landmarks, t);
-    if (!pelvis_sample.valid || !pelvis_sample.has_orientation || left.norm() < 1e-6) continue;
-    mean_left += pelvis_sample.orientation.conjugate() * left.normalized();
-  }
-  if (mean_left.norm() < 1e-6) return at_reference;
-  Eigen::Index axis = 0;
-  mean_left.cwiseAbs().maxCoeff(&axis);
-  Eigen::Vector3d pelvis_left = Eigen::Vector3d::Zero();
-  pelvis_left[axis] = mean_left[axis] > 0 ? 1.0 : -1.0;
-  return pelvis_at_reference.orientation * pelvis_left;
-}
-
 // The calibration frame turned about the vertical and moved horizontally so that the subject faces, and
 // stands, where the take starts (at `take_frame`): the take then begins near the reference stance instead of
 // a turn away from it (cgspeed's Daz-friendly CMU conversions record the T-pose facing elsewhere).
@@ -298,38 +215,6 @@ void TurnCalibrationToTake(const LandmarkTrajectories& landmarks, int64_t take_f
   }
 }
 
-StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
-                             const std::vector<Eigen::Isometry3d>& link_reference, int64_t reference,
-                             const RetargetOptions& options, std::vector<std::string>& notes) {
-  StanceAlignment alignment;
-  alignment.heading = HeadingAlignment(SubjectLeft(landmarks, reference, options), &alignment.heading_rad);
-  if (options.scale > 0) {
-    alignment.scale = options.scale;
-    return alignment;
-  }
-  Eigen::Vector3d head, left_foot, right_foot;
-  const auto robot_height = [&]() {
-    double head_z = std::nan(""), feet_z = 0;
-    int feet = 0;
-    for (size_t i = 0; i < tasks.size(); ++i) {
-      const std::string& name = landmarks.names[static_cast<size_t>(tasks.landmark[i])];
-      if (name == "head") head_z = link_reference[i].translation().z();
-      if (name == "left_foot" || name == "right_foot") feet_z += link_reference[i].translation().z(), ++feet;
-    }
-    return feet ? head_z - feet_z / feet : std::nan("");
-  };
-  if (LandmarkPosition(landmarks, "head", reference, &head) && LandmarkPosition(landmarks, "left_foot", reference, &left_foot) &&
-      LandmarkPosition(landmarks, "right_foot", reference, &right_foot)) {
-    const double subject = head.z() - 0.5 * (left_foot.z() + right_foot.z());
-    const double robot = robot_height();
-    if (subject > 0.3 && std::isfinite(robot) && robot > 0) alignment.scale = robot / subject;
-    else notes.push_back("could not measure heights (head and feet tasks needed): scale 1");
-  } else {
-    notes.push_back("head or feet missing at the reference frame: scale 1");
-  }
-  return alignment;
-}
-
 // One frame's IK targets: each landmark's motion since the reference frame, turned and scaled, applied to
 // its link's reference pose. Stores them in the motion's landmark_targets; false when none is present.
 bool FrameTargets(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
@@ -345,7 +230,7 @@ bool FrameTargets(const LandmarkTrajectories& landmarks, const TrackedTasks& tas
     target.has_orientation = sample.has_orientation && ref.has_orientation;
     if (!target.active) continue;
     any = true;
-    target.position = link_reference[i].translation() + alignment.scale * (alignment.heading * (sample.position - ref.position));
+    target.position = link_reference[i].translation() + RobotDisplacement(alignment, landmarks, tasks.landmark[i], t, sample, ref);
     if (target.has_orientation) {
       const Eigen::Matrix3d relative = (sample.orientation * ref.orientation.conjugate()).toRotationMatrix();
       target.orientation =
@@ -724,13 +609,13 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"contact_blend", enforcement.blend}, {"stance_knee", enforcement.stance_knee},
           {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing},
           {"roll_with_source", enforcement.roll_with_source},
-          {"heading_from_pelvis", heading_from_pelvis}};
+          {"heading_from_pelvis", heading_from_pelvis}, {"proportions", proportions_per_chain ? "chains" : "height"}};
 }
 
 std::string RetargetSummary::BriefReport() const {
   std::ostringstream out;
   out.precision(3);
-  out << frames << " frames, reference " << (reference_frame < 0 ? std::string("the calibration frame") : "frame " + std::to_string(reference_frame)) << ", scale " << scale << "; median/p95 error "
+  out << frames << " frames, reference " << (reference_frame < 0 ? std::string("the calibration frame") : "frame " + std::to_string(reference_frame)) << ", scale " << scale << " (arms " << arm_scale << "); median/p95 error "
       << "P1 " << median_position_error[0] * 1000 << "/" << p95_position_error[0] * 1000 << " mm "
       << median_angle_error[0] * 180 / M_PI << "/" << p95_angle_error[0] * 180 / M_PI << " deg, "
       << "P2 " << median_position_error[1] * 1000 << "/" << p95_position_error[1] * 1000 << " mm "
@@ -802,9 +687,22 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   workspace.setQ(q_ref);
   std::vector<Eigen::Isometry3d> link_reference;
   for (const IkTask& task : tasks.ik) link_reference.push_back(workspace.findLinkPose(task.link));
-  const StanceAlignment alignment = AlignToRobot(stance_landmarks, tasks, link_reference, reference, options, report.notes);
+  RobotStance robot_stance;
+  robot_stance.link_reference = link_reference;
+  std::vector<std::string> task_links;
+  for (size_t i = 0; i < tasks.size(); ++i) {
+    robot_stance.task_landmarks.push_back(landmarks.names[static_cast<size_t>(tasks.landmark[i])]);
+    task_links.push_back(model.linkNames()[static_cast<size_t>(tasks.ik[i].link)]);
+  }
+  MeasureRobotArms(model, workspace, robot_stance.task_landmarks, task_links, robot_stance);
+  AlignmentOptions alignment_options;
+  alignment_options.fixed_scale = options.scale;
+  alignment_options.per_chain = options.proportions_per_chain;
+  alignment_options.heading_from_pelvis = options.heading_from_pelvis && options.reference_time < 0;
+  const StanceAlignment alignment = AlignToRobot(stance_landmarks, robot_stance, reference, alignment_options, report.notes);
   report.heading_rad = alignment.heading_rad;
-  report.scale = alignment.scale;
+  report.scale = alignment.leg_scale;
+  report.arm_scale = alignment.arm_scale;
 
   std::vector<LandmarkSample> reference_samples;
   for (int64_t landmark : tasks.landmark) reference_samples.push_back(SampleAt(stance_landmarks, reference, landmark));

@@ -39,9 +39,11 @@ struct RetargetOptions {
   // Reference stance: the first frame at which every tracked landmark is present, or the frame nearest
   // this time (s) if >= 0.
   double reference_time = -1.0;
-  // Robot height / subject height for landmark displacements; 0 = measure both (vertical distance from
-  // the feet to the head landmark).
+  // One robot/subject ratio for every landmark displacement; 0 = measured (stance_alignment.h).
   double scale = 0.0;
+  // Measured per chain (legs by the pelvis height above the feet, arms by shoulder–elbow–hand length) instead
+  // of one head-height ratio (stance_alignment.h says why it is not yet the default).
+  bool proportions_per_chain = false;
   // Frames with no target at all are bridged when the gap is at most this long (s).
   double max_bridge = 0.25;
   // Each frame's joint step is bounded by this fraction of the URDF velocity limit times the time since
@@ -77,7 +79,8 @@ struct RetargetOptions {
 struct RetargetSummary {
   int64_t frames = 0;
   int64_t reference_frame = 0;  // -1: the capture's calibration frame (RobotMap::stance_is_calibration_pose)
-  double scale = 1.0;
+  double scale = 1.0;      // the legs' (stance_alignment.h): pelvis, feet, trunk and head
+  double arm_scale = 1.0;  // the elbows' and hands' motion relative to the pelvis
   double heading_rad = 0.0;
   // Per priority level 1..3: median and 95th percentile of position (m) and angle (rad) errors.
   std::array<double, 3> median_position_error{}, p95_position_error{}, median_angle_error{}, p95_angle_error{};

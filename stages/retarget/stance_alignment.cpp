@@ -1,0 +1,213 @@
+#include "stages/retarget/stance_alignment.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace syn {
+namespace {
+
+constexpr const char* kSides[2] = {"left", "right"};
+
+int64_t LandmarkIndex(const LandmarkTrajectories& landmarks, const std::string& name) {
+  const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), name);
+  return found == landmarks.names.end() ? -1 : found - landmarks.names.begin();
+}
+
+// A named landmark's position in a frame; false when the marker set has no such landmark or it is missing.
+bool LandmarkPosition(const LandmarkTrajectories& landmarks, const std::string& name, int64_t frame,
+                      Eigen::Vector3d* position) {
+  const int64_t index = LandmarkIndex(landmarks, name);
+  if (index < 0) return false;
+  const LandmarkSample sample = SampleAt(landmarks, frame, index);
+  *position = sample.position;
+  return sample.valid;
+}
+
+// The robot link pose of the task tracking `landmark` in the reference stance; false when none does.
+bool RobotLandmarkPosition(const RobotStance& robot, const std::string& landmark, Eigen::Vector3d* position) {
+  const auto found = std::find(robot.task_landmarks.begin(), robot.task_landmarks.end(), landmark);
+  if (found == robot.task_landmarks.end()) return false;
+  *position = robot.link_reference[static_cast<size_t>(found - robot.task_landmarks.begin())].translation();
+  return true;
+}
+
+// Robot / subject height of `landmark` above the mean of the feet at the reference; NaN when either cannot
+// be measured.
+double HeightRatioAboveFeet(const LandmarkTrajectories& landmarks, const RobotStance& robot, const std::string& landmark,
+                            int64_t reference) {
+  Eigen::Vector3d top, left, right, robot_top, robot_left, robot_right;
+  if (!LandmarkPosition(landmarks, landmark, reference, &top) || !LandmarkPosition(landmarks, "left_foot", reference, &left) ||
+      !LandmarkPosition(landmarks, "right_foot", reference, &right) || !RobotLandmarkPosition(robot, landmark, &robot_top) ||
+      !RobotLandmarkPosition(robot, "left_foot", &robot_left) || !RobotLandmarkPosition(robot, "right_foot", &robot_right)) {
+    return std::nan("");
+  }
+  const double subject = top.z() - 0.5 * (left.z() + right.z());
+  const double robot_height = robot_top.z() - 0.5 * (robot_left.z() + robot_right.z());
+  // A subject "height" under 0.3 m is a crouch or a broken capture, not a proportion.
+  return subject > 0.3 && robot_height > 0 ? robot_height / subject : std::nan("");
+}
+
+// Robot / subject arm length, the mean over the sides both have; NaN when neither side can be measured.
+double ArmRatio(const LandmarkTrajectories& landmarks, const RobotStance& robot, int64_t reference) {
+  double sum = 0;
+  int sides = 0;
+  for (int side = 0; side < 2; ++side) {
+    Eigen::Vector3d elbow, hand;
+    const std::string prefix = kSides[side];
+    if (!std::isfinite(robot.arm_length[side]) || !LandmarkPosition(landmarks, prefix + "_elbow", reference, &elbow) ||
+        !LandmarkPosition(landmarks, prefix + "_hand", reference, &hand)) {
+      continue;
+    }
+    Eigen::Vector3d shoulder;
+    if (!LandmarkPosition(landmarks, prefix + "_shoulder", reference, &shoulder)) continue;
+    const double subject = (elbow - shoulder).norm() + (hand - elbow).norm();
+    if (subject < 0.1) continue;  // landmarks on one point: a marker set that cannot tell them apart
+    sum += robot.arm_length[side] / subject, ++sides;
+  }
+  return sides ? sum / sides : std::nan("");
+}
+
+// Rotation about Z that turns the subject's forward direction (left × up) into +X.
+Eigen::Matrix3d HeadingAlignment(const Eigen::Vector3d& left, double* heading) {
+  Eigen::Vector3d forward = left.cross(Eigen::Vector3d::UnitZ());
+  forward.z() = 0;
+  if (forward.norm() < 1e-9) {
+    *heading = 0;
+    return Eigen::Matrix3d::Identity();
+  }
+  *heading = std::atan2(forward.y(), forward.x());
+  return Eigen::AngleAxisd(-*heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
+
+// The body's right-to-left direction in a frame, from the feet and the elbows (zero when neither pair is there).
+Eigen::Vector3d BodyLeft(const LandmarkTrajectories& landmarks, int64_t frame) {
+  Eigen::Vector3d left = Eigen::Vector3d::Zero(), a, b;
+  for (const auto& [left_name, right_name] : {std::pair{"left_foot", "right_foot"}, {"left_elbow", "right_elbow"}}) {
+    if (LandmarkPosition(landmarks, left_name, frame, &a) && LandmarkPosition(landmarks, right_name, frame, &b)) left += a - b;
+  }
+  return left;
+}
+
+// The subject's left at the reference frame (with heading_from_pelvis). A frame chosen for its landmarks (no
+// --reference-time) is usually mid-motion: mid-stride the feet's left-right vector is turned by the stride,
+// up to 45° on a CMU walk, and the robot then walked crabwise (02_01: 40° between where it faced and where it
+// went). With a pelvis orientation, the left is instead the pelvis frame's axis nearest to the feet's and
+// elbows' left-right vectors averaged over the whole capture in the pelvis frame, taken at the reference
+// frame; the axis is snapped (marker-set and BVH pelvis frames have one pointing left) so an asymmetric
+// motion (a lunge, a turn) cannot bias it.
+Eigen::Vector3d SubjectLeft(const LandmarkTrajectories& landmarks, int64_t reference, bool heading_from_pelvis) {
+  const Eigen::Vector3d at_reference = BodyLeft(landmarks, reference);
+  const int64_t pelvis = LandmarkIndex(landmarks, "pelvis");
+  if (!heading_from_pelvis || pelvis < 0) return at_reference;
+  const LandmarkSample pelvis_at_reference = SampleAt(landmarks, reference, pelvis);
+  if (!pelvis_at_reference.valid || !pelvis_at_reference.has_orientation) return at_reference;
+  Eigen::Vector3d mean_left = Eigen::Vector3d::Zero();
+  for (int64_t t = 0; t < landmarks.frames; ++t) {
+    const LandmarkSample pelvis_sample = SampleAt(landmarks, t, pelvis);
+    const Eigen::Vector3d left = BodyLeft(landmarks, t);
+    if (!pelvis_sample.valid || !pelvis_sample.has_orientation || left.norm() < 1e-6) continue;
+    mean_left += pelvis_sample.orientation.conjugate() * left.normalized();
+  }
+  if (mean_left.norm() < 1e-6) return at_reference;
+  Eigen::Index axis = 0;
+  mean_left.cwiseAbs().maxCoeff(&axis);
+  Eigen::Vector3d pelvis_left = Eigen::Vector3d::Zero();
+  pelvis_left[axis] = mean_left[axis] > 0 ? 1.0 : -1.0;
+  return pelvis_at_reference.orientation * pelvis_left;
+}
+
+// Links from `link` up to the root, `link` first.
+std::vector<std::string> LinksToRoot(const Model& model, std::string link) {
+  std::vector<std::string> path{link};
+  const auto& joints = model.joints();
+  for (size_t guard = 0; guard <= joints.size(); ++guard) {
+    const auto joint = std::find_if(joints.begin(), joints.end(), [&](const ModelJoint& j) { return j.child == link; });
+    if (joint == joints.end()) break;
+    link = joint->parent;
+    path.push_back(link);
+  }
+  return path;
+}
+
+}  // namespace
+
+void MeasureRobotArms(const Model& model, Workspace& workspace, const std::vector<std::string>& task_landmarks,
+                      const std::vector<std::string>& task_links, RobotStance& stance) {
+  const auto link_of = [&](const std::string& landmark) {
+    const auto found = std::find(task_landmarks.begin(), task_landmarks.end(), landmark);
+    return found == task_landmarks.end() ? std::string() : task_links[static_cast<size_t>(found - task_landmarks.begin())];
+  };
+  const std::string hands[2] = {link_of("left_hand"), link_of("right_hand")};
+  if (hands[0].empty() || hands[1].empty()) return;
+  const std::vector<std::string> paths[2] = {LinksToRoot(model, hands[0]), LinksToRoot(model, hands[1])};
+  const auto position = [&](const std::string& link) -> Eigen::Vector3d {
+    return workspace.findLinkPose(model.findLinkIndex(link)).translation();
+  };
+  for (int side = 0; side < 2; ++side) {
+    const std::vector<std::string>& path = paths[side];
+    const std::vector<std::string>& other = paths[1 - side];
+    const std::string elbow = link_of(std::string(kSides[side]) + "_elbow");
+    // The first link up the hand's chain that the other hand's chain shares: the body both arms hang from.
+    size_t branch = 0;
+    while (branch < path.size() && std::find(other.begin(), other.end(), path[branch]) == other.end()) ++branch;
+    if (branch == 0 || branch == path.size()) continue;
+    const auto elbow_at = std::find(path.begin(), path.begin() + static_cast<std::ptrdiff_t>(branch), elbow);
+    if (elbow.empty() || elbow_at == path.begin() + static_cast<std::ptrdiff_t>(branch)) continue;
+    // The link just below the branch: its frame origin is the shoulder's first joint.
+    const Eigen::Vector3d shoulder = position(path[branch - 1]);
+    stance.arm_length[side] = (position(elbow) - shoulder).norm() + (position(hands[side]) - position(elbow)).norm();
+  }
+}
+
+StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const RobotStance& robot, int64_t reference,
+                             const AlignmentOptions& options, std::vector<std::string>& notes) {
+  StanceAlignment alignment;
+  alignment.heading = HeadingAlignment(SubjectLeft(landmarks, reference, options.heading_from_pelvis), &alignment.heading_rad);
+  alignment.on_arm.assign(static_cast<size_t>(landmarks.count()), false);
+  if (options.fixed_scale > 0) {
+    alignment.leg_scale = alignment.arm_scale = options.fixed_scale;
+    return alignment;
+  }
+  double legs = options.per_chain ? HeightRatioAboveFeet(landmarks, robot, "pelvis", reference) : std::nan("");
+  if (!std::isfinite(legs)) {
+    legs = HeightRatioAboveFeet(landmarks, robot, "head", reference);
+    if (!std::isfinite(legs)) notes.push_back("could not measure heights (head and feet tasks needed): scale 1");
+    else if (options.per_chain) notes.push_back("no pelvis height above the feet: every landmark scaled by the head's height");
+  }
+  alignment.leg_scale = std::isfinite(legs) ? legs : 1.0;
+  alignment.arm_scale = alignment.leg_scale;
+  if (!options.per_chain) return alignment;
+  alignment.pelvis = LandmarkIndex(landmarks, "pelvis");
+  if (alignment.pelvis >= 0) alignment.pelvis_reference = SampleAt(landmarks, reference, alignment.pelvis);
+  const double arms = ArmRatio(landmarks, robot, reference);
+  if (std::isfinite(arms) && alignment.pelvis >= 0 && alignment.pelvis_reference.valid) {
+    alignment.arm_scale = arms;
+    for (const char* side : kSides) {
+      for (const char* part : {"_elbow", "_hand"}) {
+        const int64_t index = LandmarkIndex(landmarks, std::string(side) + part);
+        if (index >= 0) alignment.on_arm[static_cast<size_t>(index)] = true;
+      }
+    }
+  } else {
+    notes.push_back("could not measure the arms (shoulder, elbow and hand landmarks, hand and elbow tasks, a pelvis): "
+                    "arms scaled as the legs");
+  }
+  return alignment;
+}
+
+Eigen::Vector3d RobotDisplacement(const StanceAlignment& alignment, const LandmarkTrajectories& landmarks,
+                                  int64_t landmark, int64_t t, const LandmarkSample& sample,
+                                  const LandmarkSample& reference) {
+  if (alignment.on_arm[static_cast<size_t>(landmark)]) {
+    const LandmarkSample pelvis = SampleAt(landmarks, t, alignment.pelvis);
+    if (pelvis.valid) {
+      const Eigen::Vector3d& pelvis_reference = alignment.pelvis_reference.position;
+      return alignment.heading * (alignment.leg_scale * (pelvis.position - pelvis_reference) +
+                                  alignment.arm_scale * ((sample.position - pelvis.position) -
+                                                         (reference.position - pelvis_reference)));
+    }
+  }
+  return alignment.leg_scale * (alignment.heading * (sample.position - reference.position));
+}
+
+}  // namespace syn

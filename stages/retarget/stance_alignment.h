@@ -1,0 +1,67 @@
+// How a capture's landmark displacements become the robot's: turned so the subject faces +X, and scaled.
+//
+// A landmark's target is its robot link's pose in the reference stance plus the landmark's displacement since
+// the reference frame, turned and scaled. Two ways to scale (issue 17, item 3):
+//   * height (the default): one robot / subject ratio of the head's height above the feet for everything;
+//   * per chain (--proportions chains): the pelvis, the feet, the trunk and the head move by
+//     leg_scale = robot / subject height of the pelvis above the feet at the reference (the pelvis height in
+//     leg lengths); the elbows and hands move with the pelvis (leg_scale) plus their motion relative to it
+//     scaled by arm_scale = robot / subject arm length, shoulder–elbow–hand (the robot's from its URDF, the
+//     subject's from the marker set's shoulder landmarks; without them the arms move as the legs).
+// Why both: the G1 map's "head" link sits at its waist, so its height ratio is 0.54-0.64 on CMU subjects
+// against leg ratios of 0.82-1.11 — strides and pelvis heights shrunk to two thirds. Per chain is the
+// faithful proportion, but at full-length strides the contact enforcement does not yet keep flat planted
+// feet still on the G1 (32 CMU walks and dances: drift bounds met on 18, was 24), so it is not yet the default.
+// With --scale every landmark moves by the one given ratio.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "common/model.h"
+#include "stages/retarget/landmarks.h"
+
+namespace syn {
+
+struct StanceAlignment {
+  Eigen::Matrix3d heading = Eigen::Matrix3d::Identity();  // capture -> robot turn about the vertical
+  double heading_rad = 0.0;
+  double leg_scale = 1.0;
+  double arm_scale = 1.0;
+  std::vector<bool> on_arm;                 // per landmark: moves relative to the pelvis by arm_scale
+  int64_t pelvis = -1;                      // the pelvis landmark (-1: the marker set has none)
+  LandmarkSample pelvis_reference;          // the pelvis at the reference frame
+};
+
+// What the alignment needs to know about the robot in its reference stance.
+struct RobotStance {
+  // Per tracked task: its landmark's name and its link's pose in the reference stance.
+  std::vector<std::string> task_landmarks;
+  std::vector<Eigen::Isometry3d> link_reference;
+  // Per side (left, right; NaN when the map does not track that arm): shoulder–elbow + elbow–hand, metres.
+  double arm_length[2] = {std::nan(""), std::nan("")};
+};
+
+// The robot's arm lengths for RobotStance: from the joint where the two hand links' chains part (the
+// shoulder's first joint) to the elbow task's link, plus on to the hand task's link, at the workspace's pose.
+void MeasureRobotArms(const Model& model, Workspace& workspace, const std::vector<std::string>& task_landmarks,
+                      const std::vector<std::string>& task_links, RobotStance& stance);
+
+struct AlignmentOptions {
+  double fixed_scale = 0.0;          // > 0: one scale for every landmark
+  bool per_chain = false;            // legs and arms by their own lengths (above)
+  bool heading_from_pelvis = false;  // RetargetOptions::heading_from_pelvis, when no --reference-time is given
+};
+
+[[nodiscard]] StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const RobotStance& robot,
+                                           int64_t reference, const AlignmentOptions& options,
+                                           std::vector<std::string>& notes);
+
+// The robot-frame displacement of `landmark` at frame t: `sample` is it at t, `reference` at the reference.
+[[nodiscard]] Eigen::Vector3d RobotDisplacement(const StanceAlignment& alignment, const LandmarkTrajectories& landmarks,
+                                                int64_t landmark, int64_t t, const LandmarkSample& sample,
+                                                const LandmarkSample& reference);
+
+}  // namespace syn

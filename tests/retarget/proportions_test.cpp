@@ -1,0 +1,125 @@
+// Per-chain proportions (--proportions chains, stance_alignment.h): the scales the stage reports and the
+// targets it tracks, against an independent computation from the capture's own skeleton joints and a URDF
+// forward kinematics that shares no code with the stage. CMU walk 02_01 (bundled) onto the G1.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "common/intermediate_file.h"
+#include "common/markers_file.h"
+#include "stages/ingest/ingest.h"
+#include "stages/retarget/retarget.h"
+#include "tests/support/demo_motion.h"
+#include "tests/support/independent_fk.h"
+#include "tests/support/shared_data.h"
+
+namespace syn {
+namespace {
+
+Eigen::Vector3d Joint(const MarkerData& capture, const std::string& body, int64_t frame) {
+  const auto found = std::find(capture.bodies.begin(), capture.bodies.end(), body);
+  EXPECT_NE(found, capture.bodies.end()) << body;
+  const double* pose = &capture.body_pose[(static_cast<size_t>(frame) * capture.bodies.size() +
+                                           static_cast<size_t>(found - capture.bodies.begin())) * 7];
+  return {pose[0], pose[1], pose[2]};
+}
+
+Eigen::Vector3d Target(const MotionData& motion, const std::string& landmark, int64_t frame) {
+  const auto found = std::find(motion.landmark_names.begin(), motion.landmark_names.end(), landmark);
+  EXPECT_NE(found, motion.landmark_names.end()) << landmark;
+  const double* target = &motion.landmark_targets[(static_cast<size_t>(frame) * motion.landmark_names.size() +
+                                                   static_cast<size_t>(found - motion.landmark_names.begin())) * 7];
+  return {target[0], target[1], target[2]};
+}
+
+class Proportions : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / ("syn_proportions_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_);
+    IngestOptions ingest;
+    ingest.drop_first_frame = true;
+    capture_ = IngestCapture(testing::SourcePath("datasets/demo/02_01.bvh"), ingest, nullptr);
+    markers_ = (dir_ / "walk.markers.h5").string();
+    IntermediateWriter writer(markers_, {kMarkersSchema, kMarkersSchemaVersion, "test", {}, nlohmann::json::array()});
+    WriteMarkerData(writer, capture_);
+    writer.commit();
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  RetargetOptions Options(bool per_chain) const {
+    RetargetOptions options;
+    options.model = testing::SourcePath(testing::kG1Urdf);
+    options.robot_map = testing::SourcePath(testing::kG1Map);
+    options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
+    options.proportions_per_chain = per_chain;
+    return options;
+  }
+
+  std::filesystem::path dir_;
+  std::string markers_;
+  MarkerData capture_;
+};
+
+TEST_F(Proportions, LegsAndArmsScaleByTheirOwnLengths) {
+  RetargetSummary summary;
+  const MotionData motion = RetargetFile(markers_, Options(true), &summary);
+  ASSERT_EQ(summary.reference_frame, 0);
+
+  // The subject at the reference frame, from the BVH's joints: CMU's Hips, LeftFoot (ankle), LeftArm
+  // (glenohumeral), LeftForeArm (elbow), LeftHand (wrist).
+  const auto at0 = [&](const char* body) { return Joint(capture_, body, 0); };
+  const double subject_leg = at0("Hips").z() - 0.5 * (at0("LeftFoot").z() + at0("RightFoot").z());
+  double subject_arm[2];
+  for (int side = 0; side < 2; ++side) {
+    const std::string s = side == 0 ? "Left" : "Right";
+    subject_arm[side] = (at0((s + "Arm").c_str()) - at0((s + "ForeArm").c_str())).norm() +
+                        (at0((s + "ForeArm").c_str()) - at0((s + "Hand").c_str())).norm();
+  }
+  // The G1 in its zero pose, by the independent FK: pelvis above the ankle links; shoulder pitch joint
+  // (the first link below the torso both arms hang from) to the elbow link to the hand link.
+  const testing::IndependentFk fk(testing::SourcePath(testing::kG1Urdf));
+  const auto links = fk.poses(std::map<std::string, double>{}, Eigen::Isometry3d::Identity());
+  const auto at = [&](const std::string& link) { return links.at(link).translation(); };
+  const double robot_leg = at("pelvis").z() - 0.5 * (at("left_ankle_roll_link").z() + at("right_ankle_roll_link").z());
+  double arm_ratio = 0;
+  for (int side = 0; side < 2; ++side) {
+    const std::string s = side == 0 ? "left" : "right";
+    const double robot_arm = (at(s + "_shoulder_pitch_link") - at(s + "_elbow_link")).norm() +
+                             (at(s + "_elbow_link") - at(s + "_rubber_hand")).norm();
+    arm_ratio += 0.5 * robot_arm / subject_arm[side];
+  }
+  EXPECT_NEAR(summary.scale, robot_leg / subject_leg, 1e-9);
+  EXPECT_NEAR(summary.arm_scale, arm_ratio, 1e-9);
+  // The G1 map's head link sits at the waist: its height ratio (the default mode's one scale) is far below
+  // the leg ratio, the reason this mode exists.
+  RetargetSummary height;
+  (void)RetargetFile(markers_, Options(false), &height);
+  EXPECT_EQ(height.scale, height.arm_scale);
+  EXPECT_LT(height.scale, 0.75 * summary.scale) << "height " << height.scale << ", legs " << summary.scale;
+
+  // Every frame's targets: the pelvis moves by the leg scale, a hand by the pelvis's motion plus its own
+  // motion relative to the pelvis at the arm scale, both turned by the reported heading (targets compared
+  // as displacements from frame 0, so the vertical move onto the planted soles cancels).
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(-summary.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  double worst = 0;
+  for (int64_t t = 0; t < motion.frames(); ++t) {
+    const Eigen::Vector3d pelvis_move = at0("Hips") - Joint(capture_, "Hips", t);
+    const Eigen::Vector3d expected_pelvis = -summary.scale * (turn * pelvis_move);
+    worst = std::max(worst, (Target(motion, "pelvis", t) - Target(motion, "pelvis", 0) - expected_pelvis).norm());
+    const Eigen::Vector3d relative = (Joint(capture_, "LeftHand", t) - Joint(capture_, "Hips", t)) -
+                                     (at0("LeftHand") - at0("Hips"));
+    const Eigen::Vector3d expected_hand = expected_pelvis + summary.arm_scale * (turn * relative);
+    worst = std::max(worst, (Target(motion, "left_hand", t) - Target(motion, "left_hand", 0) - expected_hand).norm());
+  }
+  EXPECT_LT(worst, 1e-9) << "largest target difference, m";
+}
+
+}  // namespace
+}  // namespace syn
