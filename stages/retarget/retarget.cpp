@@ -694,7 +694,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
     robot_stance.task_landmarks.push_back(landmarks.names[static_cast<size_t>(tasks.landmark[i])]);
     task_links.push_back(model.linkNames()[static_cast<size_t>(tasks.ik[i].link)]);
   }
-  MeasureRobotArms(model, workspace, robot_stance.task_landmarks, task_links, robot_stance);
+  if (options.proportions_per_chain && options.scale <= 0) MeasureRobotArms(model, workspace, task_links, robot_stance);
   AlignmentOptions alignment_options;
   alignment_options.fixed_scale = options.scale;
   alignment_options.per_chain = options.proportions_per_chain;

@@ -79,11 +79,22 @@ Eigen::Matrix3d HeadingAlignment(const Eigen::Vector3d& left, double* heading) {
   return Eigen::AngleAxisd(-*heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 }
 
+// The landmark pairs whose left-minus-right vectors give the body's left: feet and elbows, as indices
+// (-1: the marker set has no such landmark), found once rather than by name in every frame.
+struct LeftRightPairs {
+  int64_t pairs[2][2];
+  explicit LeftRightPairs(const LandmarkTrajectories& landmarks)
+      : pairs{{LandmarkIndex(landmarks, "left_foot"), LandmarkIndex(landmarks, "right_foot")},
+              {LandmarkIndex(landmarks, "left_elbow"), LandmarkIndex(landmarks, "right_elbow")}} {}
+};
+
 // The body's right-to-left direction in a frame, from the feet and the elbows (zero when neither pair is there).
-Eigen::Vector3d BodyLeft(const LandmarkTrajectories& landmarks, int64_t frame) {
-  Eigen::Vector3d left = Eigen::Vector3d::Zero(), a, b;
-  for (const auto& [left_name, right_name] : {std::pair{"left_foot", "right_foot"}, {"left_elbow", "right_elbow"}}) {
-    if (LandmarkPosition(landmarks, left_name, frame, &a) && LandmarkPosition(landmarks, right_name, frame, &b)) left += a - b;
+Eigen::Vector3d BodyLeft(const LandmarkTrajectories& landmarks, const LeftRightPairs& sides, int64_t frame) {
+  Eigen::Vector3d left = Eigen::Vector3d::Zero();
+  for (const auto& pair : sides.pairs) {
+    if (pair[0] < 0 || pair[1] < 0) continue;
+    const LandmarkSample a = SampleAt(landmarks, frame, pair[0]), b = SampleAt(landmarks, frame, pair[1]);
+    if (a.valid && b.valid) left += a.position - b.position;
   }
   return left;
 }
@@ -96,7 +107,8 @@ Eigen::Vector3d BodyLeft(const LandmarkTrajectories& landmarks, int64_t frame) {
 // frame; the axis is snapped (marker-set and BVH pelvis frames have one pointing left) so an asymmetric
 // motion (a lunge, a turn) cannot bias it.
 Eigen::Vector3d SubjectLeft(const LandmarkTrajectories& landmarks, int64_t reference, bool heading_from_pelvis) {
-  const Eigen::Vector3d at_reference = BodyLeft(landmarks, reference);
+  const LeftRightPairs sides(landmarks);
+  const Eigen::Vector3d at_reference = BodyLeft(landmarks, sides, reference);
   const int64_t pelvis = LandmarkIndex(landmarks, "pelvis");
   if (!heading_from_pelvis || pelvis < 0) return at_reference;
   const LandmarkSample pelvis_at_reference = SampleAt(landmarks, reference, pelvis);
@@ -104,7 +116,7 @@ Eigen::Vector3d SubjectLeft(const LandmarkTrajectories& landmarks, int64_t refer
   Eigen::Vector3d mean_left = Eigen::Vector3d::Zero();
   for (int64_t t = 0; t < landmarks.frames; ++t) {
     const LandmarkSample pelvis_sample = SampleAt(landmarks, t, pelvis);
-    const Eigen::Vector3d left = BodyLeft(landmarks, t);
+    const Eigen::Vector3d left = BodyLeft(landmarks, sides, t);
     if (!pelvis_sample.valid || !pelvis_sample.has_orientation || left.norm() < 1e-6) continue;
     mean_left += pelvis_sample.orientation.conjugate() * left.normalized();
   }
@@ -131,8 +143,9 @@ std::vector<std::string> LinksToRoot(const Model& model, std::string link) {
 
 }  // namespace
 
-void MeasureRobotArms(const Model& model, Workspace& workspace, const std::vector<std::string>& task_landmarks,
-                      const std::vector<std::string>& task_links, RobotStance& stance) {
+void MeasureRobotArms(const Model& model, Workspace& workspace, const std::vector<std::string>& task_links,
+                      RobotStance& stance) {
+  const std::vector<std::string>& task_landmarks = stance.task_landmarks;
   const auto link_of = [&](const std::string& landmark) {
     const auto found = std::find(task_landmarks.begin(), task_landmarks.end(), landmark);
     return found == task_landmarks.end() ? std::string() : task_links[static_cast<size_t>(found - task_landmarks.begin())];

@@ -46,8 +46,9 @@ struct RobotStance {
 
 // The robot's arm lengths for RobotStance: from the joint where the two hand links' chains part (the
 // shoulder's first joint) to the elbow task's link, plus on to the hand task's link, at the workspace's pose.
-void MeasureRobotArms(const Model& model, Workspace& workspace, const std::vector<std::string>& task_landmarks,
-                      const std::vector<std::string>& task_links, RobotStance& stance);
+// `task_links`: the link of each of stance.task_landmarks.
+void MeasureRobotArms(const Model& model, Workspace& workspace, const std::vector<std::string>& task_links,
+                      RobotStance& stance);
 
 struct AlignmentOptions {
   double fixed_scale = 0.0;          // > 0: one scale for every landmark

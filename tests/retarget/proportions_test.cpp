@@ -22,20 +22,21 @@
 namespace syn {
 namespace {
 
+// The position in frame t of `name` from per-frame rows of `stride` doubles per name, position first.
+Eigen::Vector3d Position(const std::vector<std::string>& names, const std::vector<double>& rows, size_t stride,
+                         const std::string& name, int64_t frame) {
+  const auto found = std::find(names.begin(), names.end(), name);
+  EXPECT_NE(found, names.end()) << name;
+  const double* row = &rows[(static_cast<size_t>(frame) * names.size() + static_cast<size_t>(found - names.begin())) * stride];
+  return {row[0], row[1], row[2]};
+}
+
 Eigen::Vector3d Joint(const MarkerData& capture, const std::string& body, int64_t frame) {
-  const auto found = std::find(capture.bodies.begin(), capture.bodies.end(), body);
-  EXPECT_NE(found, capture.bodies.end()) << body;
-  const double* pose = &capture.body_pose[(static_cast<size_t>(frame) * capture.bodies.size() +
-                                           static_cast<size_t>(found - capture.bodies.begin())) * 7];
-  return {pose[0], pose[1], pose[2]};
+  return Position(capture.bodies, capture.body_pose, 7, body, frame);
 }
 
 Eigen::Vector3d Target(const MotionData& motion, const std::string& landmark, int64_t frame) {
-  const auto found = std::find(motion.landmark_names.begin(), motion.landmark_names.end(), landmark);
-  EXPECT_NE(found, motion.landmark_names.end()) << landmark;
-  const double* target = &motion.landmark_targets[(static_cast<size_t>(frame) * motion.landmark_names.size() +
-                                                   static_cast<size_t>(found - motion.landmark_names.begin())) * 7];
-  return {target[0], target[1], target[2]};
+  return Position(motion.landmark_names, motion.landmark_targets, 7, landmark, frame);
 }
 
 class Proportions : public ::testing::Test {
