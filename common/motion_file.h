@@ -10,7 +10,7 @@
 // contact_feet[F] (foot sides) and contact[T,F] (1 = the source's foot is planted, syn-retarget's
 // contact detection); with a free base, contact_force[T,F,3] (N, ground frame: each foot's share of
 // the base's residual wrench that admissible contact forces explain) and unexplained_wrench[T,6] (the
-// rest: moment about the pelvis origin N·m, then force N). Root attributes:
+// rest: moment about the whole-body centre of mass N·m, then force N). Root attributes:
 // model_name, model_sha256, total_mass (kg).
 #pragma once
 

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/percentile.h"
 #include "stages/evaluate/worker_threads.h"
 
 namespace syn {
@@ -89,6 +90,31 @@ std::vector<FootPoints> FeetOnModel(const RobotMap& map, const Model& model) {
   return feet;
 }
 
+// What syn-retarget's contact forces leave of the base's residual wrench (motion_file.h): magnitude of
+// the force (N) and moment (N·m, about the centre of mass) over the stored frames, and the mean vertical
+// contact force as a fraction of body weight.
+namespace {
+
+nlohmann::json UnexplainedResidual(const MotionData& motion) {
+  std::vector<double> force, moment;
+  double vertical = 0;
+  const size_t feet = motion.contact_feet.size();
+  for (int64_t t = 0; t < motion.frames(); ++t) {
+    const double* wrench = &motion.unexplained_wrench[static_cast<size_t>(t) * 6];
+    moment.push_back(std::hypot(wrench[0], wrench[1], wrench[2]));
+    force.push_back(std::hypot(wrench[3], wrench[4], wrench[5]));
+    for (size_t f = 0; f < feet; ++f) vertical += motion.contact_force[(static_cast<size_t>(t) * feet + f) * 3 + 2];
+  }
+  const double weight = motion.total_mass * 9.80665 * static_cast<double>(motion.frames());
+  return {{"mean_unexplained_force_n", Number(MeanOf(force))},
+          {"p95_unexplained_force_n", Number(NearestRankPercentile(force, 0.95))},
+          {"mean_unexplained_moment_nm", Number(MeanOf(moment))},
+          {"p95_unexplained_moment_nm", Number(NearestRankPercentile(moment, 0.95))},
+          {"mean_vertical_contact_force_per_weight", Number(weight > 0 ? vertical / weight : std::nan(""))}};
+}
+
+}  // namespace
+
 nlohmann::json EvaluateMotion(const MotionData& motion, const Model& model, const std::vector<FootPoints>& feet,
                               const TrialSynergies* synergies, const EvaluateOptions& options,
                               const std::string& synergies_path) {
@@ -151,6 +177,7 @@ nlohmann::json EvaluateMotion(const MotionData& motion, const Model& model, cons
         whole.power_by_velocity[v];
   }
   result["trial"]["power_by_velocity_w_per_kg"] = by_velocity;
+  if (!motion.unexplained_wrench.empty()) result["trial"]["base_residual"] = UnexplainedResidual(motion);
   result["segments"] = nlohmann::json::array();
   if (!synergies) return result;
 

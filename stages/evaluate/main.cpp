@@ -77,6 +77,10 @@ int main(int argc, char** argv) {
     std::cerr << "syn-evaluate: " << input << " -> " << common.output << ": mean dP " << trial["mean_delta_p"]
               << ", mean dKE " << trial["mean_delta_ke"] << ", power " << trial["mean_power_w_per_kg"]
               << " W/kg, foot sliding " << trial["foot_sliding_ratio"];
+    if (trial.contains("base_residual")) {
+      std::cerr << ", base residual unexplained by contact forces " << trial["base_residual"]["mean_unexplained_force_n"]
+                << " N / " << trial["base_residual"]["mean_unexplained_moment_nm"] << " N·m";
+    }
     if (metrics.contains("monte_carlo") && metrics["monte_carlo"].contains("mean_rank_k_relative_change_delta_p")) {
       std::cerr << "; rank-k change dP " << metrics["monte_carlo"]["mean_rank_k_relative_change_delta_p"] << ", dKE "
                 << metrics["monte_carlo"]["mean_rank_k_relative_change_delta_ke"];

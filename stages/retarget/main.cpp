@@ -112,6 +112,10 @@ int main(int argc, char** argv) {
                  "Planted feet pitch with the source about their heel or toe edge (heel strike, toe-off) instead of "
                  "staying flat; the sole centre then moves with the roll")
       ->capture_default_str();
+  app.add_option("--friction", options.contact_forces.friction,
+                 "Friction coefficient of the sole contact forces that explain the base's residual wrench (the friction "
+                 "cone's slope; the motion's contact_force and unexplained_wrench)")
+      ->capture_default_str();
   app.add_option("--max-bridge", options.max_bridge,
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")
       ->capture_default_str();

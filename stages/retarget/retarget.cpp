@@ -332,12 +332,24 @@ void MeasureLandmarkErrors(FrameIk& ik, const TrackedTasks& tasks, const std::ve
   }
 }
 
-// Velocities, accelerations and the torques that produce them (Simbody inverse dynamics).
-void ComputeDynamics(const Model& model, Workspace& workspace, MotionData& motion) {
+// Velocities, accelerations and the torques that produce them (Simbody inverse dynamics); with the
+// source's contacts, the base's residual split into contact forces and the unexplained rest
+// (contact_forces.h).
+void ComputeDynamics(const Model& model, Workspace& workspace, const RobotMap& map, const ContactForceOptions& options,
+                     MotionData& motion, RetargetSummary& report) {
   const int64_t frames = motion.frames(), nq = model.nq(), nu = model.nu();
   EstimateVelocities(model, motion.time_s, motion.q, motion.u, motion.udot);
   motion.tau.resize(static_cast<size_t>(frames * nu));
+  ContactForceSplit split(model, map.feet, options);
+  const bool splitting = split.hasBase() && !motion.contact_feet.empty();
+  const size_t feet = motion.contact_feet.size();
+  if (splitting) {
+    motion.contact_force.assign(static_cast<size_t>(frames) * feet * 3, 0.0);
+    motion.unexplained_wrench.assign(static_cast<size_t>(frames) * 6, 0.0);
+  }
+  ContactForceFrame forces;
   Eigen::VectorXd frame_q(nq), frame_u(nu), frame_udot(nu), frame_tau(nu);
+  double residual_force = 0, residual_moment = 0, unexplained_force = 0, unexplained_moment = 0;
   for (int64_t t = 0; t < frames; ++t) {
     frame_q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(t * nq)], nq);
     frame_u = Eigen::Map<const Eigen::VectorXd>(&motion.u[static_cast<size_t>(t * nu)], nu);
@@ -346,6 +358,23 @@ void ComputeDynamics(const Model& model, Workspace& workspace, MotionData& motio
     workspace.setU(frame_u);
     workspace.calcInverseDynamics(frame_udot, frame_tau);
     std::copy(frame_tau.data(), frame_tau.data() + nu, motion.tau.begin() + t * nu);
+    if (!splitting) continue;
+    split.split(workspace, frame_u, frame_tau, &motion.contact[static_cast<size_t>(t) * feet], forces);
+    for (size_t f = 0; f < feet; ++f) {
+      std::copy(forces.foot_force[f].data(), forces.foot_force[f].data() + 3,
+                motion.contact_force.begin() + static_cast<std::ptrdiff_t>((static_cast<size_t>(t) * feet + f) * 3));
+    }
+    std::copy(forces.unexplained.data(), forces.unexplained.data() + 6,
+              motion.unexplained_wrench.begin() + t * 6);
+    residual_moment += forces.residual.head<3>().norm(), residual_force += forces.residual.tail<3>().norm();
+    unexplained_moment += forces.unexplained.head<3>().norm(), unexplained_force += forces.unexplained.tail<3>().norm();
+  }
+  if (splitting && frames > 0) {
+    report.forces_split = true;
+    report.mean_residual_force = residual_force / static_cast<double>(frames);
+    report.mean_residual_moment = residual_moment / static_cast<double>(frames);
+    report.mean_unexplained_force = unexplained_force / static_cast<double>(frames);
+    report.mean_unexplained_moment = unexplained_moment / static_cast<double>(frames);
   }
 }
 
@@ -595,7 +624,7 @@ bool RetargetOptions::IsValid(std::string* error) const {
   if (max_bridge < 0) return fail("--max-bridge must be >= 0");
   if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
   if (!(ik_function_tolerance > 0 && ik_function_tolerance < 1)) return fail("--ik-function-tolerance must be in (0, 1)");
-  return contact.IsValid(error) && enforcement.IsValid(error);
+  return contact.IsValid(error) && enforcement.IsValid(error) && contact_forces.IsValid(error);
 }
 
 nlohmann::json RetargetOptions::ToJson() const {
@@ -609,7 +638,8 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"contact_blend", enforcement.blend}, {"stance_knee", enforcement.stance_knee},
           {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing},
           {"roll_with_source", enforcement.roll_with_source},
-          {"heading_from_pelvis", heading_from_pelvis}, {"proportions", proportions_per_chain ? "chains" : "height"}};
+          {"heading_from_pelvis", heading_from_pelvis}, {"proportions", proportions_per_chain ? "chains" : "height"},
+          {"friction", contact_forces.friction}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -637,6 +667,10 @@ std::string RetargetSummary::BriefReport() const {
           << " foot-frames rolled onto a sole edge, " << enforcement.lifted_frames
           << " frames with a foot lifted onto its lowest point (" << enforcement.raised_frames << " with the base)";
     }
+  }
+  if (forces_split) {
+    out << "; base residual mean " << mean_residual_force << " N / " << mean_residual_moment
+        << " N·m, unexplained by contact forces " << mean_unexplained_force << " N / " << mean_unexplained_moment << " N·m";
   }
   return out.str();
 }
@@ -753,7 +787,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
     motion.contact.assign(contacts.contact.begin(), contacts.contact.end());
     MeasureContacts(model, workspace, map, contacts, FootTasks(map, model, landmarks, tasks), motion, report);
   }
-  ComputeDynamics(model, workspace, motion);
+  ComputeDynamics(model, workspace, map, options.contact_forces, motion, report);
   FindWorstJointStep(model, motion, report);
   report.frames = frames;
   return motion;

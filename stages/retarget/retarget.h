@@ -22,6 +22,7 @@
 #include "common/robot_map.h"
 #include "stages/retarget/contact_detection.h"
 #include "stages/retarget/contact_enforcement.h"
+#include "stages/retarget/contact_forces.h"
 
 namespace syn {
 
@@ -71,6 +72,8 @@ struct RetargetOptions {
   // 40° crabwise, and planted feet then cannot lie flat).
   bool heading_from_pelvis = true;
   ContactEnforcementOptions enforcement;
+  // The base's residual split into contact forces at the planted soles (contact_forces.h).
+  ContactForceOptions contact_forces;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;
@@ -103,6 +106,10 @@ struct RetargetSummary {
   double source_foot_skating = 0.0;            // the same on the source's foot targets with the robot's soles
   bool contacts_enforced = false;
   ContactEnforcementReport enforcement;        // what enforcing the contacts took
+  // The base's residual wrench and what the planted soles' admissible forces leave of it, mean magnitude
+  // over the frames (N, N·m about the centre of mass); forces_split is false without feet or a base.
+  bool forces_split = false;
+  double mean_residual_force = 0, mean_residual_moment = 0, mean_unexplained_force = 0, mean_unexplained_moment = 0;
 
   std::string BriefReport() const;
 };

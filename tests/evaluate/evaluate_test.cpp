@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -182,6 +183,36 @@ TEST_F(RealMonteCarlo, SameSeedSameNumbersAndRankThreeChangesTheMetrics) {
   EXPECT_NE(first.samples[0].mean_delta_p, other.samples[0].mean_delta_p);
   // Three synergies of a dance segment leave out real motion: the metrics move.
   EXPECT_GT(std::abs(first.rank_k.mean_delta_ke / first.original.mean_delta_ke - 1.0), 1e-3);
+}
+
+// syn-evaluate's base residual is the retargeted motion's own unexplained wrench and contact forces,
+// recomputed here from the file (magnitudes, their mean and nearest-rank 95th percentile).
+TEST(BaseResidual, ReportsTheMotionsUnexplainedWrench) {
+  const MotionData& motion = testing::DemoMotionOnG1("02_01");
+  ASSERT_FALSE(motion.unexplained_wrench.empty());
+  const Model model = Model::Load(testing::SourcePath(testing::kG1Urdf));
+  const nlohmann::json metrics = EvaluateMotion(motion, model, {}, nullptr, EvaluateOptions{}, "");
+  const nlohmann::json& reported = metrics["trial"]["base_residual"];
+  std::vector<double> force, moment;
+  double vertical = 0;
+  for (int64_t t = 0; t < motion.frames(); ++t) {
+    const double* w = &motion.unexplained_wrench[static_cast<size_t>(t) * 6];
+    moment.push_back(std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]));
+    force.push_back(std::sqrt(w[3] * w[3] + w[4] * w[4] + w[5] * w[5]));
+    for (size_t f = 0; f < motion.contact_feet.size(); ++f) {
+      vertical += motion.contact_force[(static_cast<size_t>(t) * motion.contact_feet.size() + f) * 3 + 2];
+    }
+  }
+  const double frames = static_cast<double>(motion.frames());
+  double mean_force = 0, mean_moment = 0;
+  for (size_t i = 0; i < force.size(); ++i) mean_force += force[i] / frames, mean_moment += moment[i] / frames;
+  std::sort(force.begin(), force.end());
+  EXPECT_NEAR(reported["mean_unexplained_force_n"].get<double>(), mean_force, 1e-9 * mean_force);
+  EXPECT_NEAR(reported["mean_unexplained_moment_nm"].get<double>(), mean_moment, 1e-9 * mean_moment);
+  const double p95_force = force[static_cast<size_t>(0.95 * (frames - 1) + 0.5)];  // common/percentile.h's rank
+  EXPECT_NEAR(reported["p95_unexplained_force_n"].get<double>(), p95_force, 1e-9 * p95_force);
+  EXPECT_NEAR(reported["mean_vertical_contact_force_per_weight"].get<double>(),
+              vertical / frames / (motion.total_mass * 9.80665), 1e-9);
 }
 
 }  // namespace

@@ -1,23 +1,43 @@
 #include "tests/support/standing_pose.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
 
 #include "common/model.h"
 
 namespace syn::testing {
 
-Eigen::VectorXd StandingZeroPose(const Model& model, const RobotMap& map) {
-  Workspace workspace(model);
-  Eigen::VectorXd q = model.defaultQ();
+namespace {
+
+double LowestSolePoint(const Model& model, const RobotMap& map, Workspace& workspace, const Eigen::VectorXd& q) {
   workspace.setQ(q);
   double lowest = 1e9;
   for (const RobotFoot& foot : map.feet) {
     const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
     for (const auto& p : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(p[0], p[1], p[2])).z());
   }
-  const auto& names = model.coordinateNames();
-  const auto base_z = std::find(names.begin(), names.end(), "base_z");
-  q[base_z - names.begin()] -= lowest;
+  return lowest;
+}
+
+}  // namespace
+
+Eigen::VectorXd StandingZeroPose(const Model& model, const RobotMap& map) {
+  Workspace workspace(model);
+  Eigen::VectorXd q = model.defaultQ();
+  const double lowest = LowestSolePoint(model, map, workspace, q);
+  // The base's height: the free base's base_z, or the coordinate of a virtual base chain (HRP-4C's
+  // floating_base_p3) that lifts the soles one for one.
+  for (int i = 0; i < model.nq(); ++i) {
+    Eigen::VectorXd raised = q;
+    raised(i) += 1e-3;
+    if (std::abs(LowestSolePoint(model, map, workspace, raised) - lowest - 1e-3) < 1e-9) {
+      q(i) -= lowest;
+      return q;
+    }
+  }
+  ADD_FAILURE() << model.name() << " has no coordinate that raises it vertically";
   return q;
 }
 

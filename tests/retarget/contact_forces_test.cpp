@@ -1,0 +1,173 @@
+// The base's residual split into contact forces (contact_forces.h): the non-negative least-squares
+// solver against its optimality conditions, a robot standing still against statics (m g through the
+// soles, nothing unexplained), a robot in the air against the whole residual, and a real retargeted walk
+// against the free base's own inverse-dynamics force and the friction cone.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "common/model.h"
+#include "common/robot_map.h"
+#include "stages/retarget/contact_forces.h"
+#include "stages/retarget/nonnegative_least_squares.h"
+#include "tests/support/demo_motion.h"
+#include "tests/support/shared_data.h"
+#include "tests/support/standing_pose.h"
+
+namespace syn {
+namespace {
+
+using Wrench = Eigen::Matrix<double, 6, 1>;
+
+// Karush–Kuhn–Tucker conditions of min ½‖A x − b‖², x ≥ 0 (sufficient, the problem being convex):
+// x ≥ 0, g = Aᵀ(A x − b) ≥ 0, and g = 0 where x > 0.
+void ExpectOptimal(const NonnegativeLeastSquares::Rows& a, const Wrench& b, const Eigen::VectorXd& x) {
+  const Eigen::VectorXd g = a.transpose() * (a * x - b);
+  const double scale = a.colwise().norm().maxCoeff() * b.norm();
+  for (int i = 0; i < x.size(); ++i) {
+    EXPECT_GE(x(i), 0.0) << i;
+    EXPECT_GE(g(i), -1e-9 * scale) << i;
+    if (x(i) > 0) {
+      EXPECT_NEAR(g(i), 0.0, 1e-9 * scale) << i;
+    }
+  }
+}
+
+TEST(NonnegativeLeastSquares, MeetsTheOptimalityConditions) {
+  std::mt19937_64 random(7);
+  std::normal_distribution<double> normal;
+  NonnegativeLeastSquares solver(40);
+  int with_active_bounds = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int n = 1 + trial % 40;
+    NonnegativeLeastSquares::Rows a(6, n);
+    for (int i = 0; i < a.size(); ++i) a.data()[i] = normal(random);
+    Wrench b;
+    for (int i = 0; i < 6; ++i) b(i) = 100 * normal(random);
+    Eigen::VectorXd x(n);
+    solver.solve(a, b, x);
+    ExpectOptimal(a, b, x);
+    with_active_bounds += (x.array() == 0).any();
+  }
+  EXPECT_GT(with_active_bounds, 150);  // the bounds mattered, not only unconstrained solves
+}
+
+TEST(NonnegativeLeastSquares, RecoversAnExactNonnegativeCombination) {
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  NonnegativeLeastSquares::Rows a(6, 32);
+  for (int i = 0; i < a.size(); ++i) a.data()[i] = uniform(random);
+  Eigen::VectorXd truth = Eigen::VectorXd::Zero(32);
+  truth(3) = 2.0, truth(17) = 0.5, truth(30) = 1.25;
+  const Wrench b = a * truth;
+  Eigen::VectorXd x(32);
+  NonnegativeLeastSquares(32).solve(a, b, x);
+  EXPECT_LT((a * x - b).norm(), 1e-10 * b.norm());
+  EXPECT_GE(x.minCoeff(), 0.0);
+}
+
+class ContactForces : public ::testing::Test {
+ protected:
+  static Model G1() { return Model::Load(testing::SourcePath(testing::kG1Urdf)); }
+  static RobotMap G1Map() { return LoadRobotMap(testing::SourcePath(testing::kG1Map)); }
+};
+
+// Still, both soles flat on the floor, the centre of mass between them: the soles carry the weight and
+// nothing is left over.
+void ExpectStandingCarriesWeight(const Model& model, const RobotMap& map) {
+  Workspace workspace(model);
+  const Eigen::VectorXd still = Eigen::VectorXd::Zero(model.nu());
+  Eigen::VectorXd tau(model.nu());
+  workspace.setQ(testing::StandingZeroPose(model, map));
+  workspace.setU(still);
+  workspace.calcInverseDynamics(still, tau);
+  ContactForceSplit split(model, map.feet, {});
+  ASSERT_TRUE(split.hasBase());
+  const std::vector<int64_t> planted(map.feet.size(), 1);
+  ContactForceFrame frame;
+  split.split(workspace, still, tau, planted.data(), frame);
+  const double weight = model.totalMass() * model.gravity();
+  EXPECT_NEAR(frame.residual(5), weight, 1e-9 * weight);
+  EXPECT_NEAR(frame.residual.head<5>().norm(), 0.0, 1e-6 * weight);  // no moment about the centre of mass
+  EXPECT_LT(frame.unexplained.norm(), 1e-6 * weight);
+  Eigen::Vector3d total = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& force : frame.foot_force) {
+    EXPECT_GT(force.z(), 0.2 * weight);  // each foot takes a share
+    total += force;
+  }
+  EXPECT_NEAR(total.z(), weight, 1e-6 * weight);
+  EXPECT_NEAR(total.head<2>().norm(), 0.0, 1e-6 * weight);
+}
+
+TEST_F(ContactForces, StandingStillTheSolesCarryTheWeight) { ExpectStandingCarriesWeight(G1(), G1Map()); }
+
+TEST_F(ContactForces, StandingStillOnAVirtualBaseChain) {
+  const std::string urdf = "robots/humanoid_synergies/HRP4c_optitrack_model.urdf";
+  SYN_REQUIRE_SHARED(urdf);
+  const Model model = Model::Load(testing::SharedPath(urdf));
+  ASSERT_EQ(model.floatingBase(), FloatingBase::kFixed);  // HRP-4C's floating_base_p1..r3 carry the residual
+  RobotMap map = LoadRobotMap(testing::SourcePath("manifests/robots/hrp4c.toml"));
+  // In HRP-4C's zero pose the centre of mass is 1.8 cm behind the map's heel points, where no sole force
+  // can hold it: soles reaching 10 cm further back put it over them.
+  for (RobotFoot& foot : map.feet) {
+    for (const double y : {0.05, -0.05}) foot.sole_points.push_back({-0.12, y, -0.08});
+  }
+  ExpectStandingCarriesWeight(model, map);
+}
+
+TEST_F(ContactForces, InTheAirNothingIsExplained) {
+  const Model model = G1();
+  const RobotMap map = G1Map();
+  Workspace workspace(model);
+  Eigen::VectorXd q = testing::StandingZeroPose(model, map);
+  q(6) += 0.1;  // base z: every sole point 10 cm up
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(model.nu()), udot = u, tau(model.nu());
+  u(0) = 0.3, u(4) = 0.2;  // turning and moving: centrifugal terms in the residual too
+  udot(2) = 1.0;
+  workspace.setQ(q);
+  workspace.setU(u);
+  workspace.calcInverseDynamics(udot, tau);
+  ContactForceSplit split(model, map.feet, {});
+  const std::vector<int64_t> planted(map.feet.size(), 1);
+  ContactForceFrame frame;
+  split.split(workspace, u, tau, planted.data(), frame);
+  EXPECT_EQ((frame.unexplained - frame.residual).norm(), 0.0);
+  for (const Eigen::Vector3d& force : frame.foot_force) EXPECT_EQ(force.norm(), 0.0);
+  // The free base's force entries are the residual force itself (ground frame), whatever point the
+  // moment is taken about.
+  EXPECT_LT((frame.residual.tail<3>() - tau.segment<3>(3)).norm(), 1e-9 * tau.segment<3>(3).norm());
+}
+
+// A real walk (CMU 02_01 onto the G1, as the demo runs it): every frame's contact forces are admissible,
+// and with the unexplained force they add up to the free base's inverse-dynamics force.
+TEST_F(ContactForces, RealWalkForcesAreAdmissibleAndAddUp) {
+  const MotionData& motion = testing::DemoMotionOnG1("02_01");
+  ASSERT_FALSE(motion.contact_force.empty());
+  ASSERT_EQ(motion.unexplained_wrench.size(), static_cast<size_t>(motion.frames()) * 6);
+  const size_t feet = motion.contact_feet.size(), nu = static_cast<size_t>(motion.nu());
+  const double weight = motion.total_mass * 9.80665, friction = 0.8;
+  double vertical = 0;
+  int64_t carried = 0;
+  for (int64_t t = 0; t < motion.frames(); ++t) {
+    Eigen::Vector3d total = Eigen::Vector3d::Zero();
+    for (size_t f = 0; f < feet; ++f) {
+      const Eigen::Vector3d force(&motion.contact_force[(static_cast<size_t>(t) * feet + f) * 3]);
+      EXPECT_GE(force.z(), 0.0) << "frame " << t;
+      EXPECT_LE(force.head<2>().norm(), friction * force.z() + 1e-9 * weight) << "frame " << t;
+      total += force;
+    }
+    const Eigen::Vector3d unexplained(&motion.unexplained_wrench[static_cast<size_t>(t) * 6 + 3]);
+    const Eigen::Vector3d base_force(&motion.tau[static_cast<size_t>(t) * nu + 3]);
+    ASSERT_LT((total + unexplained - base_force).norm(), 1e-6 * weight) << "frame " << t;
+    vertical += total.z();
+    carried += total.z() > 0;
+  }
+  // The soles carry the body over the walk (the motion's vertical accelerations average out), and in
+  // most frames: those with neither foot down are few.
+  EXPECT_NEAR(vertical / static_cast<double>(motion.frames()), weight, 0.15 * weight);
+  EXPECT_GT(carried, motion.frames() * 8 / 10);
+}
+
+}  // namespace
+}  // namespace syn
