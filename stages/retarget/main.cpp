@@ -108,6 +108,11 @@ int main(int argc, char** argv) {
                  "the feet's left-right vector, and planted feet cannot lie flat; false: the feet's and elbows' left-right "
                  "vector at the reference frame)")
       ->capture_default_str();
+  app.add_option("--neutral-reference", options.neutral_reference,
+                 "Measure the feet from their median offset to the pelvis over the take "
+                 "(a walk's first frame is mid-stride; false: from the reference frame, as a calibration frame or "
+                 "--reference-time always is)")
+      ->capture_default_str();
   app.add_option("--roll-with-source", options.enforcement.roll_with_source,
                  "Planted feet pitch with the source about their heel or toe edge (heel strike, toe-off) instead of "
                  "staying flat; the sole centre then moves with the roll")

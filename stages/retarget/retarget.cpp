@@ -639,7 +639,7 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing},
           {"roll_with_source", enforcement.roll_with_source},
           {"heading_from_pelvis", heading_from_pelvis}, {"proportions", proportions_per_chain ? "chains" : "height"},
-          {"friction", contact_forces.friction}};
+          {"friction", contact_forces.friction}, {"neutral_reference", neutral_reference}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -739,7 +739,16 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   report.arm_scale = alignment.arm_scale;
 
   std::vector<LandmarkSample> reference_samples;
-  for (int64_t landmark : tasks.landmark) reference_samples.push_back(SampleAt(stance_landmarks, reference, landmark));
+  const auto pelvis_name = std::find(landmarks.names.begin(), landmarks.names.end(), "pelvis");
+  if (options.neutral_reference && !calibrated && options.reference_time < 0 && pelvis_name != landmarks.names.end()) {
+    std::vector<bool> feet(tasks.size(), false);
+    for (int task : FootTasks(inputs.map, model, landmarks, tasks)) {
+      if (task >= 0) feet[static_cast<size_t>(task)] = true;
+    }
+    reference_samples = NeutralReference(landmarks, pelvis_name - landmarks.names.begin(), reference, tasks.landmark, feet);
+  } else {
+    for (int64_t landmark : tasks.landmark) reference_samples.push_back(SampleAt(stance_landmarks, reference, landmark));
+  }
   const RobotMap& map = inputs.map;
   const double posture_weight =
       map.priority_weights[static_cast<size_t>(map.posture_priority - 1)] * map.posture_weight * options.posture_scale;

@@ -71,6 +71,9 @@ struct RetargetOptions {
   // left-right vector at the reference frame, which mid-stride is turned by the stride (the demo walk went
   // 40° crabwise, and planted feet then cannot lie flat).
   bool heading_from_pelvis = true;
+  // The feet measured from their median offset to the pelvis over the take rather than from
+  // the reference frame's (stance_alignment.h NeutralReference), when the reference is a frame of the take.
+  bool neutral_reference = true;
   ContactEnforcementOptions enforcement;
   // The base's residual split into contact forces at the planted soles (contact_forces.h).
   ContactForceOptions contact_forces;

@@ -1,7 +1,12 @@
 #include "stages/retarget/stance_alignment.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "common/percentile.h"
 
 namespace syn {
 namespace {
@@ -221,6 +226,41 @@ Eigen::Vector3d RobotDisplacement(const StanceAlignment& alignment, const Landma
     }
   }
   return alignment.leg_scale * (alignment.heading * (sample.position - reference.position));
+}
+
+std::vector<LandmarkSample> NeutralReference(const LandmarkTrajectories& landmarks, int64_t pelvis, int64_t reference,
+                                             const std::vector<int64_t>& tracked, const std::vector<bool>& neutral) {
+  std::vector<LandmarkSample> samples;
+  for (int64_t landmark : tracked) samples.push_back(SampleAt(landmarks, reference, landmark));
+  const LandmarkSample pelvis_at_reference = SampleAt(landmarks, reference, pelvis);
+  if (!pelvis_at_reference.valid) return samples;
+  // Per frame, the pelvis's turn about the vertical since the reference frame.
+  std::vector<Eigen::Matrix3d> unturn(static_cast<size_t>(landmarks.frames), Eigen::Matrix3d::Identity());
+  std::vector<bool> pelvis_valid(static_cast<size_t>(landmarks.frames));
+  for (int64_t t = 0; t < landmarks.frames; ++t) {
+    const LandmarkSample at = SampleAt(landmarks, t, pelvis);
+    pelvis_valid[static_cast<size_t>(t)] = at.valid;
+    if (!at.valid || !at.has_orientation || !pelvis_at_reference.has_orientation) continue;
+    const Eigen::Vector3d forward = (at.orientation * pelvis_at_reference.orientation.conjugate()) * Eigen::Vector3d::UnitX();
+    unturn[static_cast<size_t>(t)] = Eigen::AngleAxisd(-std::atan2(forward.y(), forward.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  }
+  std::array<std::vector<double>, 3> offsets;
+  for (size_t i = 0; i < tracked.size(); ++i) {
+    if (!neutral[i] || tracked[i] == pelvis || !samples[i].valid) continue;
+    for (auto& axis : offsets) axis.clear();
+    for (int64_t t = 0; t < landmarks.frames; ++t) {
+      if (!pelvis_valid[static_cast<size_t>(t)]) continue;
+      const LandmarkSample at = SampleAt(landmarks, t, tracked[i]);
+      if (!at.valid) continue;
+      const Eigen::Vector3d offset = unturn[static_cast<size_t>(t)] * (at.position - SampleAt(landmarks, t, pelvis).position);
+      for (int axis = 0; axis < 3; ++axis) offsets[static_cast<size_t>(axis)].push_back(offset(axis));
+    }
+    if (offsets[0].empty()) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      samples[i].position(axis) = pelvis_at_reference.position(axis) + NearestRankPercentile(offsets[static_cast<size_t>(axis)], 0.5);
+    }
+  }
+  return samples;
 }
 
 }  // namespace syn

@@ -60,6 +60,19 @@ struct AlignmentOptions {
                                            int64_t reference, const AlignmentOptions& options,
                                            std::vector<std::string>& notes);
 
+// The source's reference for `tracked` landmarks when the reference is a frame of the take (no calibration
+// frame, no --reference-time): those marked `neutral` (the feet) at the pelvis's reference position plus
+// their median offset from the pelvis over the take — measured in the pelvis's heading at each frame,
+// turned to the reference frame's heading (world axes when the pelvis has no orientation) —, the others at
+// the reference frame. The robot's reference stance stands with its feet under its hips; a walk's first
+// frame is mid-stride, and measuring from it left one foot 0.19 m behind the pelvis for the whole take (CMU
+// 02_01 onto G1): the planted foot out of reach at every push-off, the base lowered 10 cm for it, a crouched
+// walk. The arms keep the reference frame: the G1's reference holds its forearms forward, not hanging as a
+// walker's median does, and their median swing put its hands at the edge of reach (elbow on its limit).
+[[nodiscard]] std::vector<LandmarkSample> NeutralReference(const LandmarkTrajectories& landmarks, int64_t pelvis,
+                                                           int64_t reference, const std::vector<int64_t>& tracked,
+                                                           const std::vector<bool>& neutral);
+
 // The robot-frame displacement of `landmark` at frame t: `sample` is it at t, `reference` at the reference.
 [[nodiscard]] Eigen::Vector3d RobotDisplacement(const StanceAlignment& alignment, const LandmarkTrajectories& landmarks,
                                                 int64_t landmark, int64_t t, const LandmarkSample& sample,

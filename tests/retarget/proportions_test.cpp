@@ -122,5 +122,37 @@ TEST_F(Proportions, LegsAndArmsScaleByTheirOwnLengths) {
   EXPECT_LT(worst, 1e-9) << "largest target difference, m";
 }
 
+// The feet's neutral reference (stance_alignment.h NeutralReference): the walk's first frame is mid-stride,
+// yet over the take each foot's target sits, at the median, where the robot's reference stance has it
+// relative to the pelvis (the G1's zero pose, by the independent FK). Measured from the first frame
+// instead, one foot stays a stride's fraction behind the pelvis and the other ahead.
+TEST_F(Proportions, FeetAreMeasuredFromTheirMedianOffsetToThePelvis) {
+  const testing::IndependentFk fk(testing::SourcePath(testing::kG1Urdf));
+  const auto links = fk.poses(std::map<std::string, double>{}, Eigen::Isometry3d::Identity());
+  auto median_offset_error = [&](const MotionData& motion, const std::string& side) {
+    const Eigen::Vector3d stance = links.at(side + "_ankle_roll_link").translation() - links.at("pelvis").translation();
+    std::vector<double> along, across;
+    for (int64_t t = 0; t < motion.frames(); ++t) {
+      const Eigen::Vector3d offset = Target(motion, side + "_foot", t) - Target(motion, "pelvis", t);
+      along.push_back(offset.x()), across.push_back(offset.y());
+    }
+    std::sort(along.begin(), along.end());
+    std::sort(across.begin(), across.end());
+    const size_t middle = along.size() / 2;
+    return std::hypot(along[middle] - stance.x(), across[middle] - stance.y());
+  };
+  RetargetOptions options = Options(false);
+  const MotionData neutral = RetargetFile(markers_, options, nullptr);
+  options.neutral_reference = false;
+  const MotionData first_frame = RetargetFile(markers_, options, nullptr);
+  double worst_first_frame = 0;
+  for (const std::string side : {"left", "right"}) {
+    // Within the heading's sway: the median is taken in the pelvis's heading at each frame.
+    EXPECT_LT(median_offset_error(neutral, side), 0.02) << side;
+    worst_first_frame = std::max(worst_first_frame, median_offset_error(first_frame, side));
+  }
+  EXPECT_GT(worst_first_frame, 0.05);
+}
+
 }  // namespace
 }  // namespace syn
