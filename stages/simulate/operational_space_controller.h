@@ -38,11 +38,16 @@ struct ControllerOptions {
   // A walking leg straightens every step, and its foot's motion along the leg becomes a near-singular
   // direction of the foot task. Kept (cutoff 1e-6), the foot task alone has to bend the knee there,
   // which it can do only to second order, so the knee stays locked or is carried onto the mirrored
-  // branch; dropped while it is under 1 % of the level's largest (1e-2), the posture, which knows the
-  // reference knee angle, bends it. 16 CMU walks on G1 without effort limits, with the joint-limit
-  // walls as above (ω = 100): 1e-2 gives 14 within 3° joint RMS and none diverged. Walls at
-  // 1e-6 (kp/kv walls on every joint): 3 diverged and 4 more over 3°.
-  PrioritizedControlOptions hierarchy{.singular_cutoff = 1e-2};
+  // branch; dropped while it is under a fraction of the level's largest, the posture, which knows the
+  // reference knee angle, bends it. The same holds for an arm swung back near its reach, whose hand
+  // task at 1 % flipped the shoulder and wrist onto another solution (CMU 02_01's last 0.3 s, 7° RMS).
+  // 21 CMU walks on G1 without effort limits, joint-limit walls as above (ω = 100), joint RMS within 3°:
+  // 1e-2: 14 (13 on the motions retargeted before the feet's neutral reference), 3e-2: 16, 5e-2: 18,
+  // 1e-1: 21 of 21 (max 1.2°; 21 of 21 on the earlier motions too), and priority-1 RMS on 02_01
+  // 0.3 mm (0.7 at 1e-2). With the URDF's effort limits: 1e-2 8, 5e-2 12, 1e-1 16 of 21 (10_04 and
+  // 12_0x ask their 50 N·m waist for up to 300 N·m in their first frames).
+  // 1e-6 with kp/kv walls on every joint: 3 of 16 diverged and 4 more over 3°.
+  PrioritizedControlOptions hierarchy{.singular_cutoff = 1e-1};
   // Clamp actuated torques to the URDF's joint effort (paper: the simulated robot's limits). Off is for
   // diagnosis: how much of a tracking error the limits cause.
   bool effort_limits = true;

@@ -48,7 +48,7 @@ TEST(SimulateCli, PrintParametersGivesEveryFlag) {
   EXPECT_EQ(result.output,
             "{\"contact\":\"none\",\"damping\":0.001,\"floating_base\":\"auto\",\"integrator\":\"euler\",\"kp\":300.0,"
             "\"kv\":25.0,\"limit_frequency\":100.0,\"no_effort_limits\":true,\"no_joint_limits\":false,\"rate\":1000.0,"
-            "\"singular_cutoff\":0.01,\"targets\":\"kinematic\"}\n");
+            "\"singular_cutoff\":0.1,\"targets\":\"kinematic\"}\n");
 }
 
 }  // namespace
