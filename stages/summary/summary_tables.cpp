@@ -91,6 +91,21 @@ SagittalLegPower SagittalLegPowerOf(const nlohmann::json& metrics) {
   return legs;
 }
 
+// What the retargeted motion's contact forces leave of the base's residual (syn-evaluate's
+// trial.base_residual, present when the motion has them): mean force N and moment N·m.
+constexpr const char* kResidualColumns = ",unexplained_residual_force_n,unexplained_residual_moment_nm";
+
+std::string ResidualCells(const nlohmann::json& metrics) {
+  const nlohmann::json* residual =
+      metrics.contains("trial") && metrics["trial"].contains("base_residual") ? &metrics["trial"]["base_residual"] : nullptr;
+  std::string cells;
+  for (const char* key : {"mean_unexplained_force_n", "mean_unexplained_moment_nm"}) {
+    cells += ',';
+    if (residual && residual->contains(key) && (*residual)[key].is_number()) cells += Number((*residual)[key].get<double>());
+  }
+  return cells;
+}
+
 constexpr const char* kMetricColumns =
     ",mean_delta_p,mean_delta_ke,mean_power_w_per_kg,foot_sliding_ratio,rank_k_change_delta_p,rank_k_change_delta_ke";
 
@@ -106,7 +121,7 @@ void WriteSummaryTable(const std::vector<std::string>& synergies_files, const st
   if (table == "trials") {
     text << "trial,subject,style,motion_class,segments,duration_s,mean_segment_duration_s,"
             "variance_explained_by_kept_synergies,median_components_for_90_percent"
-         << (metrics_files.empty() ? "" : kMetricColumns) << "\n";
+         << (metrics_files.empty() ? "" : kMetricColumns) << (metrics_files.empty() ? "" : kResidualColumns) << "\n";
   } else if (table == "segments") {
     text << "trial,style,motion_class,segment,start_frame,end_frame,duration_s,pc1_ratio,pc2_ratio,pc3_ratio,"
             "variance_explained_by_kept_synergies,components_for_90_percent"
@@ -162,6 +177,7 @@ void WriteSummaryTable(const std::vector<std::string>& synergies_files, const st
           changes["rank_k_delta_ke"] = metrics["monte_carlo"].value("mean_rank_k_relative_change_delta_ke", nlohmann::json());
         }
         text << MetricCells(metrics.contains("trial") ? &metrics["trial"] : nullptr, &changes);
+        text << ResidualCells(metrics);
       }
       text << '\n';
     }

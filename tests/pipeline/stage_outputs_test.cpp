@@ -167,6 +167,13 @@ TEST(StageOutputs, SummaryCsvsCarryTheMetricsAndTheSegments) {
   ExpectRelativelyNear(std::stod(row[Column(header, "rank_k_change_delta_p")]),
                        metrics["monte_carlo"]["mean_rank_k_relative_change_delta_p"].get<double>(), 1e-5,
                        "rank_k_change_delta_p");
+  ASSERT_TRUE(metrics["trial"].contains("base_residual")) << "the retargeted motion's contact forces";
+  ExpectRelativelyNear(std::stod(row[Column(header, "unexplained_residual_force_n")]),
+                       metrics["trial"]["base_residual"]["mean_unexplained_force_n"].get<double>(), 1e-5,
+                       "unexplained_residual_force_n");
+  ExpectRelativelyNear(std::stod(row[Column(header, "unexplained_residual_moment_nm")]),
+                       metrics["trial"]["base_residual"]["mean_unexplained_moment_nm"].get<double>(), 1e-5,
+                       "unexplained_residual_moment_nm");
 
   const auto segment_rows = ReadCsv(chain.summary_segments);
   ASSERT_EQ(segment_rows.size(), segments.boundaries.size()) << "a header and one row per segment";
