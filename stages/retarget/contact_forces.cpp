@@ -88,14 +88,16 @@ void ContactForceSplit::split(Workspace& workspace, const Eigen::VectorXd& u, co
   int n = 0;
   for (size_t f = 0; f < feet_.size(); ++f) {
     const Eigen::Isometry3d foot_pose = workspace.findLinkPose(foot_links_[f]);
-    if (!planted[f]) {
-      workspace.calcFrameJacobian(foot_links_[f], Eigen::Vector3d::Zero(), jacobian_);
-      foot_twist_.noalias() = jacobian_ * u;
-    }
+    bool twist_known = false;  // an unplanted foot's velocity, computed once one of its points is down
     for (const std::array<double, 3>& local : feet_[f].sole_points) {
       const Eigen::Vector3d point = foot_pose * Eigen::Vector3d(local[0], local[1], local[2]);
       if (point.z() > options_.max_height) continue;
       if (!planted[f]) {
+        if (!twist_known) {
+          workspace.calcFrameJacobian(foot_links_[f], Eigen::Vector3d::Zero(), jacobian_);
+          foot_twist_.noalias() = jacobian_ * u;
+          twist_known = true;
+        }
         const Eigen::Vector3d velocity = foot_twist_.tail<3>() + foot_twist_.head<3>().cross(point - foot_pose.translation());
         if (velocity.head<2>().norm() > options_.max_speed) continue;
       }
