@@ -95,7 +95,7 @@ std::vector<FootPoints> FeetOnModel(const RobotMap& map, const Model& model) {
 // contact force as a fraction of body weight.
 namespace {
 
-nlohmann::json UnexplainedResidual(const MotionData& motion) {
+nlohmann::json UnexplainedResidual(const MotionData& motion, double gravity) {
   std::vector<double> force, moment;
   double vertical = 0;
   const size_t feet = motion.contact_feet.size();
@@ -105,7 +105,7 @@ nlohmann::json UnexplainedResidual(const MotionData& motion) {
     force.push_back(std::hypot(wrench[3], wrench[4], wrench[5]));
     for (size_t f = 0; f < feet; ++f) vertical += motion.contact_force[(static_cast<size_t>(t) * feet + f) * 3 + 2];
   }
-  const double weight = motion.total_mass * 9.80665 * static_cast<double>(motion.frames());
+  const double weight = motion.total_mass * gravity * static_cast<double>(motion.frames());
   return {{"mean_unexplained_force_n", Number(MeanOf(force))},
           {"p95_unexplained_force_n", Number(NearestRankPercentile(force, 0.95))},
           {"mean_unexplained_moment_nm", Number(MeanOf(moment))},
@@ -177,7 +177,7 @@ nlohmann::json EvaluateMotion(const MotionData& motion, const Model& model, cons
         whole.power_by_velocity[v];
   }
   result["trial"]["power_by_velocity_w_per_kg"] = by_velocity;
-  if (!motion.unexplained_wrench.empty()) result["trial"]["base_residual"] = UnexplainedResidual(motion);
+  if (!motion.unexplained_wrench.empty()) result["trial"]["base_residual"] = UnexplainedResidual(motion, model.gravity());
   result["segments"] = nlohmann::json::array();
   if (!synergies) return result;
 

@@ -30,6 +30,13 @@ int FindBaseLink(const Model& model, std::vector<int>& unactuated) {
   return model.findLinkIndex(child);
 }
 
+// One column per friction-pyramid edge of every sole point: the most a frame can have in contact.
+int MaxColumns(const std::vector<RobotFoot>& feet) {
+  size_t points = 0;
+  for (const RobotFoot& foot : feet) points += foot.sole_points.size();
+  return static_cast<int>(points) * kPyramidEdges;
+}
+
 }  // namespace
 
 bool ContactForceOptions::IsValid(std::string* error) const {
@@ -41,7 +48,7 @@ bool ContactForceOptions::IsValid(std::string* error) const {
 
 ContactForceSplit::ContactForceSplit(const Model& model, const std::vector<RobotFoot>& feet,
                                      const ContactForceOptions& options)
-    : feet_(feet), options_(options), solver_(0) {
+    : feet_(feet), options_(options), solver_(MaxColumns(feet)) {
   base_link_ = FindBaseLink(model, unactuated_);
   if (base_link_ < 0) return;
   if (unactuated_.size() != 6) {
@@ -49,21 +56,16 @@ ContactForceSplit::ContactForceSplit(const Model& model, const std::vector<Robot
                     "the model has " + std::to_string(unactuated_.size()) +
                         " unactuated velocities; splitting the base's residual into contact forces needs six");
   }
-  size_t points = 0;
-  for (const RobotFoot& foot : feet_) {
-    foot_links_.push_back(model.findLinkIndex(foot.link));
-    points += foot.sole_points.size();
-  }
+  for (const RobotFoot& foot : feet_) foot_links_.push_back(model.findLinkIndex(foot.link));
   for (int k = 0; k < kPyramidEdges; ++k) {
     const double angle = 2 * M_PI * k / kPyramidEdges;
     edges_.emplace_back(options_.friction * std::cos(angle), options_.friction * std::sin(angle), 1.0);
   }
-  const int max_columns = static_cast<int>(points) * kPyramidEdges;
+  const int max_columns = MaxColumns(feet_);
   jacobian_.resize(6, model.nu());
   columns_.resize(6, max_columns);
   column_foot_.resize(static_cast<size_t>(max_columns));
   weights_.resize(max_columns);
-  solver_ = NonnegativeLeastSquares(max_columns);
 }
 
 void ContactForceSplit::split(Workspace& workspace, const Eigen::VectorXd& u, const Eigen::VectorXd& tau, const int64_t* planted,

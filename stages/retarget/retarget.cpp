@@ -738,14 +738,15 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   report.scale = alignment.leg_scale;
   report.arm_scale = alignment.arm_scale;
 
+  // Per robot-map foot, the task tracking it (-1: none).
+  const std::vector<int> foot_tasks = FootTasks(inputs.map, model, landmarks, tasks);
   std::vector<LandmarkSample> reference_samples;
-  const auto pelvis_name = std::find(landmarks.names.begin(), landmarks.names.end(), "pelvis");
-  if (options.neutral_reference && !calibrated && options.reference_time < 0 && pelvis_name != landmarks.names.end()) {
+  if (options.neutral_reference && !calibrated && options.reference_time < 0) {
     std::vector<bool> feet(tasks.size(), false);
-    for (int task : FootTasks(inputs.map, model, landmarks, tasks)) {
+    for (int task : foot_tasks) {
       if (task >= 0) feet[static_cast<size_t>(task)] = true;
     }
-    reference_samples = NeutralReference(landmarks, pelvis_name - landmarks.names.begin(), reference, tasks.landmark, feet);
+    reference_samples = NeutralReference(landmarks, reference, tasks.landmark, feet);
   } else {
     for (int64_t landmark : tasks.landmark) reference_samples.push_back(SampleAt(stance_landmarks, reference, landmark));
   }
@@ -785,7 +786,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
     const auto enforce_start = std::chrono::steady_clock::now();
     ContactEnforcementOptions enforcement = options.enforcement;
     enforcement.velocity_limit_scale = options.velocity_limit_scale;
-    EnforceContacts(model, workspace, map.feet, contacts, SourceFootPoses(motion, FootTasks(map, model, landmarks, tasks)),
+    EnforceContacts(model, workspace, map.feet, contacts, SourceFootPoses(motion, foot_tasks),
                     vertical, motion.time_s, map.file, enforcement, motion.q, &report.enforcement);
     report.refinement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - enforce_start).count();
     report.contacts_enforced = true;
@@ -794,7 +795,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   if (!map.feet.empty()) {
     for (const RobotFoot& foot : map.feet) motion.contact_feet.push_back(foot.side), report.foot_sides.push_back(foot.side);
     motion.contact.assign(contacts.contact.begin(), contacts.contact.end());
-    MeasureContacts(model, workspace, map, contacts, FootTasks(map, model, landmarks, tasks), motion, report);
+    MeasureContacts(model, workspace, map, contacts, foot_tasks, motion, report);
   }
   ComputeDynamics(model, workspace, map, options.contact_forces, motion, report);
   FindWorstJointStep(model, motion, report);

@@ -228,18 +228,19 @@ Eigen::Vector3d RobotDisplacement(const StanceAlignment& alignment, const Landma
   return alignment.leg_scale * (alignment.heading * (sample.position - reference.position));
 }
 
-std::vector<LandmarkSample> NeutralReference(const LandmarkTrajectories& landmarks, int64_t pelvis, int64_t reference,
+std::vector<LandmarkSample> NeutralReference(const LandmarkTrajectories& landmarks, int64_t reference,
                                              const std::vector<int64_t>& tracked, const std::vector<bool>& neutral) {
   std::vector<LandmarkSample> samples;
   for (int64_t landmark : tracked) samples.push_back(SampleAt(landmarks, reference, landmark));
+  const int64_t pelvis = LandmarkIndex(landmarks, "pelvis");
+  if (pelvis < 0) return samples;
   const LandmarkSample pelvis_at_reference = SampleAt(landmarks, reference, pelvis);
   if (!pelvis_at_reference.valid) return samples;
-  // Per frame, the pelvis's turn about the vertical since the reference frame.
+  // Per frame, the pelvis and its turn about the vertical since the reference frame.
+  std::vector<LandmarkSample> pelvis_at(static_cast<size_t>(landmarks.frames));
   std::vector<Eigen::Matrix3d> unturn(static_cast<size_t>(landmarks.frames), Eigen::Matrix3d::Identity());
-  std::vector<bool> pelvis_valid(static_cast<size_t>(landmarks.frames));
   for (int64_t t = 0; t < landmarks.frames; ++t) {
-    const LandmarkSample at = SampleAt(landmarks, t, pelvis);
-    pelvis_valid[static_cast<size_t>(t)] = at.valid;
+    const LandmarkSample& at = pelvis_at[static_cast<size_t>(t)] = SampleAt(landmarks, t, pelvis);
     if (!at.valid || !at.has_orientation || !pelvis_at_reference.has_orientation) continue;
     const Eigen::Vector3d forward = (at.orientation * pelvis_at_reference.orientation.conjugate()) * Eigen::Vector3d::UnitX();
     unturn[static_cast<size_t>(t)] = Eigen::AngleAxisd(-std::atan2(forward.y(), forward.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -249,10 +250,10 @@ std::vector<LandmarkSample> NeutralReference(const LandmarkTrajectories& landmar
     if (!neutral[i] || tracked[i] == pelvis || !samples[i].valid) continue;
     for (auto& axis : offsets) axis.clear();
     for (int64_t t = 0; t < landmarks.frames; ++t) {
-      if (!pelvis_valid[static_cast<size_t>(t)]) continue;
+      const LandmarkSample& pelvis_now = pelvis_at[static_cast<size_t>(t)];
       const LandmarkSample at = SampleAt(landmarks, t, tracked[i]);
-      if (!at.valid) continue;
-      const Eigen::Vector3d offset = unturn[static_cast<size_t>(t)] * (at.position - SampleAt(landmarks, t, pelvis).position);
+      if (!pelvis_now.valid || !at.valid) continue;
+      const Eigen::Vector3d offset = unturn[static_cast<size_t>(t)] * (at.position - pelvis_now.position);
       for (int axis = 0; axis < 3; ++axis) offsets[static_cast<size_t>(axis)].push_back(offset(axis));
     }
     if (offsets[0].empty()) continue;

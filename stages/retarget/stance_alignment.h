@@ -61,7 +61,7 @@ struct AlignmentOptions {
                                            std::vector<std::string>& notes);
 
 // The source's reference for `tracked` landmarks when the reference is a frame of the take (no calibration
-// frame, no --reference-time): those marked `neutral` (the feet) at the pelvis's reference position plus
+// frame, no --reference-time): those marked `neutral` (the feet) at the pelvis landmark's reference position plus
 // their median offset from the pelvis over the take — measured in the pelvis's heading at each frame,
 // turned to the reference frame's heading (world axes when the pelvis has no orientation) —, the others at
 // the reference frame. The robot's reference stance stands with its feet under its hips; a walk's first
@@ -69,8 +69,9 @@ struct AlignmentOptions {
 // 02_01 onto G1): the planted foot out of reach at every push-off, the base lowered 10 cm for it, a crouched
 // walk. The arms keep the reference frame: the G1's reference holds its forearms forward, not hanging as a
 // walker's median does, and their median swing put its hands at the edge of reach (elbow on its limit).
-[[nodiscard]] std::vector<LandmarkSample> NeutralReference(const LandmarkTrajectories& landmarks, int64_t pelvis,
-                                                           int64_t reference, const std::vector<int64_t>& tracked,
+// Without a pelvis landmark every landmark keeps the reference frame.
+[[nodiscard]] std::vector<LandmarkSample> NeutralReference(const LandmarkTrajectories& landmarks, int64_t reference,
+                                                           const std::vector<int64_t>& tracked,
                                                            const std::vector<bool>& neutral);
 
 // The robot-frame displacement of `landmark` at frame t: `sample` is it at t, `reference` at the reference.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <initializer_list>
 #include <fstream>
 #include <sstream>
 #include <utility>
@@ -35,16 +36,20 @@ std::string Cell(const std::string& text) {
   return quoted;
 }
 
-// Metric cells from a syn-evaluate JSON object (empty when absent or null).
-std::string MetricCells(const nlohmann::json* metrics, const nlohmann::json* monte_carlo) {
+// Cells of `keys` from a JSON object, each after a comma (empty when the object, the key or a number is absent).
+std::string Cells(const nlohmann::json* object, std::initializer_list<const char*> keys) {
   std::ostringstream cells;
-  auto cell = [&](const nlohmann::json* object, const char* key) {
+  for (const char* key : keys) {
     cells << ',';
     if (object && object->contains(key) && (*object)[key].is_number()) cells << Number((*object)[key].get<double>());
-  };
-  for (const char* key : {"mean_delta_p", "mean_delta_ke", "mean_power_w_per_kg", "foot_sliding_ratio"}) cell(metrics, key);
-  for (const char* key : {"rank_k_delta_p", "rank_k_delta_ke"}) cell(monte_carlo, key);
+  }
   return cells.str();
+}
+
+// Metric cells from a syn-evaluate JSON object (empty when absent or null).
+std::string MetricCells(const nlohmann::json* metrics, const nlohmann::json* monte_carlo) {
+  return Cells(metrics, {"mean_delta_p", "mean_delta_ke", "mean_power_w_per_kg", "foot_sliding_ratio"}) +
+         Cells(monte_carlo, {"rank_k_delta_p", "rank_k_delta_ke"});
 }
 
 nlohmann::json ReadMetrics(const std::string& path) {
@@ -98,12 +103,7 @@ constexpr const char* kResidualColumns = ",unexplained_residual_force_n,unexplai
 std::string ResidualCells(const nlohmann::json& metrics) {
   const nlohmann::json* residual =
       metrics.contains("trial") && metrics["trial"].contains("base_residual") ? &metrics["trial"]["base_residual"] : nullptr;
-  std::string cells;
-  for (const char* key : {"mean_unexplained_force_n", "mean_unexplained_moment_nm"}) {
-    cells += ',';
-    if (residual && residual->contains(key) && (*residual)[key].is_number()) cells += Number((*residual)[key].get<double>());
-  }
-  return cells;
+  return Cells(residual, {"mean_unexplained_force_n", "mean_unexplained_moment_nm"});
 }
 
 constexpr const char* kMetricColumns =
