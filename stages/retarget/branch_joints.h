@@ -2,9 +2,10 @@
 // forwards. Their leg or arm can only be straightened to the backward limit through the mirrored branch,
 // and a straight limb's targets cannot tell +θ from −θ, so a solver that lets them cross zero ends with the
 // joint locked on its backward limit while the real one bends forward again (G1's knee allows −5°: the
-// same-robot round trip found G1 knees on −5° against +16..80° in its source). Contact enforcement's leg
-// solves keep them at or above zero, and a leg that starts below starts from kBranchStart. (The per-frame IK
-// and the refinement do not yet: branch issue-17-enforce has that, with effects on syn-simulate to resolve.)
+// same-robot round trip found G1 knees on −5° against +16..80° in its source). The per-frame IK, the
+// trajectory refinement and contact enforcement's leg solves keep them at or above zero; the take's first
+// frame starts from kBranchStart, an IK frame that ends on zero is solved again from there (FrameIk::solve),
+// and an enforced leg that starts below zero starts from it.
 #pragma once
 
 #include <vector>

@@ -6,10 +6,16 @@
 #include <ceres/ceres.h>
 
 #include "common/configuration_space.h"
+#include "stages/retarget/branch_joints.h"
 
 namespace syn {
 namespace {
 
+// FrameIk::solve's choice between a straight knee and the bent retry: with no previous frame the bent answer
+// is kept unless the straight one costs 1 % less; mid-take the bent one must cost 10 % less, as a switch of
+// branch is then followed by frames that cross between them only as fast as the motors allow.
+constexpr double kBentKneePreference = 1.01;
+constexpr double kMidTakeBranchSwitch = 0.9;
 
 // Rotation vector of R_current R_targetᵀ: the world-frame rotation that takes
 // the target orientation to the current one.
@@ -159,7 +165,10 @@ struct FrameIk::Impl {
   FrameIkOptions options;
   int first_joint = 0, q_offset = 0;
   Eigen::VectorXd delta;
-  Eigen::VectorXd lower, upper;              // joint limits per u index (±inf for the base)
+  Eigen::VectorXd lower, upper;              // joint limits per u index (±inf for the base); branch joints >= 0
+  std::vector<int> branch_joints;            // u indexes of branch_joints.h's joints
+  // FrameIk::solve's branch retry: the frame's start, and the first answer while the second is tried.
+  Eigen::VectorXd retry_q, retry_last_step, first_q, first_last_step;
   Eigen::VectorXd step_lower, step_upper;    // this frame's bounds on δ
   TrackingCost* cost = nullptr;              // owned by problem
   ceres::Problem problem;
@@ -191,9 +200,12 @@ struct FrameIk::Impl {
     problem.AddResidualBlock(cost, nullptr, delta.data());
     lower = Eigen::VectorXd::Constant(model.nu(), -std::numeric_limits<double>::infinity());
     upper = Eigen::VectorXd::Constant(model.nu(), std::numeric_limits<double>::infinity());
+    const Eigen::VectorXd retarget_lower = RetargetLowerLimits(model);
+    const std::vector<bool> branch = BranchCoordinates(model);
     for (int u = first_joint; u < model.nu(); ++u) {
-      lower[u] = model.qLower()[u + q_offset];
+      lower[u] = retarget_lower[u + q_offset];
       upper[u] = model.qUpper()[u + q_offset];
+      if (branch[static_cast<size_t>(u + q_offset)]) branch_joints.push_back(u);
     }
     step_lower = lower, step_upper = upper;
     held_mask.assign(static_cast<size_t>(model.nu()), 0);
@@ -271,7 +283,7 @@ FrameIk::FrameIk(const Model& model, std::vector<IkTask> tasks, const Eigen::Vec
 
 FrameIk::~FrameIk() = default;
 
-FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
+FrameIkSummary FrameIk::solveOnce(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
   Impl& impl = *impl_;
   impl.delta.setZero();
   // Bounds are relative to the warm start; keep the start itself feasible.
@@ -337,6 +349,41 @@ FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::Vecto
   result.final_cost = summary.final_cost;
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   return result;
+}
+
+// A knee that ends on its zero floor may have got there from the wrong side: a straight leg cannot tell
+// +θ from −θ, so a leg straightening through the singularity is carried towards the mirrored solution and
+// then held by the floor, bent the other way from its target (the same-robot round trip found G1 knees
+// there, 25-80° off). Such a frame is solved again with its branch joints started at kBranchStart, and the
+// answer kept by the costs (kBentKneePreference, kMidTakeBranchSwitch); a frame whose knees are off the floor
+// is solved once. A scaled human's foot just beyond reach makes the straight leg a hair cheaper (0.7 % on
+// CMU 07_01's first frame); taking it there left the next frames, whose bent answer is clearly cheaper,
+// bending only as fast as the motors allow while the planted foot slid 15 mm.
+FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
+  Impl& impl = *impl_;
+  if (impl.branch_joints.empty()) return solveOnce(targets, q, step_time);
+  impl.retry_q = q;
+  impl.retry_last_step = impl.last_step;
+  const bool had_last_step = impl.has_last_step;
+  FrameIkSummary first = solveOnce(targets, q, step_time);
+  bool on_floor = false;
+  for (int u : impl.branch_joints) on_floor = on_floor || q[u + impl.q_offset] <= impl.lower[u] + 1e-6;
+  if (!on_floor) return first;
+  impl.first_q = q;
+  impl.first_last_step = impl.last_step;
+  q = impl.retry_q;
+  impl.last_step = impl.retry_last_step;
+  impl.has_last_step = had_last_step;
+  for (int u : impl.branch_joints) q[u + impl.q_offset] = std::max(q[u + impl.q_offset], kBranchStart);
+  FrameIkSummary second = solveOnce(targets, q, step_time);
+  second.iterations += first.iterations;
+  if (second.final_cost < (had_last_step ? kMidTakeBranchSwitch : kBentKneePreference) * first.final_cost) {
+    return second;
+  }
+  first.iterations = second.iterations;
+  q = impl.first_q;
+  impl.last_step = impl.first_last_step;
+  return first;
 }
 
 void FrameIk::forgetHistory() { impl_->has_last_step = false; }

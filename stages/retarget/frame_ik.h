@@ -97,6 +97,9 @@ class FrameIk {
                      std::vector<double>& angle_error);
 
  private:
+  // One solve from q (solve() may call it twice, see there).
+  FrameIkSummary solveOnce(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -10,6 +10,7 @@
 
 #include "common/configuration_space.h"
 #include "stages/retarget/block_banded_system.h"
+#include "stages/retarget/branch_joints.h"
 
 namespace syn {
 namespace {
@@ -62,6 +63,8 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
   const int64_t frames = static_cast<int64_t>(times.size()), nq = model.nq(), nu = model.nu();
   if (options.smoothing <= 0 || frames < 3) return;
   const int first_joint = model.hasFreeBase() ? 6 : 0, q_offset = model.hasFreeBase() ? 1 : 0;
+  // The IK's limits: a knee stays on the bent side of straight (branch_joints.h).
+  const Eigen::VectorXd lower_limit = RetargetLowerLimits(model);
   std::vector<Eigen::VectorXd> correction(static_cast<size_t>(frames), Eigen::VectorXd::Zero(nu));
   std::vector<Eigen::VectorXd> step(static_cast<size_t>(frames), Eigen::VectorXd::Zero(nu));  // IK's own q_t ⊖ q_{t-1}
   for (int64_t t = 1; t < frames; ++t) {
@@ -87,10 +90,12 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
       frame_q = Eigen::Map<const Eigen::VectorXd>(&q[t * static_cast<size_t>(nq)], nq);
       // A joint the IK left on a limit stays there: the tracking residual would otherwise pull it through
       // (the IK held it there because the targets ask for more), and clamping afterwards would undo the
-      // compensation the rest of the body made for it.
+      // compensation the rest of the body made for it. The raised knee floor counts (branch_joints.h): a
+      // straight knee held there tracks CMU 05_02 at 54.7 mm P1 median, let go 66.8 mm (the same-robot round
+      // trip's no-enforcement knees prefer it let go: max 28-36 deg held, 10-21 deg let go).
       for (int u = first_joint; u < nu; ++u) {
         const double value = frame_q[u + q_offset];
-        if (value <= model.qLower()[u + q_offset] + 1e-9 || value >= model.qUpper()[u + q_offset] - 1e-9) {
+        if (value <= lower_limit[u + q_offset] + 1e-9 || value >= model.qUpper()[u + q_offset] - 1e-9) {
           system.fix(k, u, x[u]);
         }
       }
@@ -116,7 +121,7 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
     frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
     Integrate(shape, frame_q, correction[static_cast<size_t>(t)], refined);
     for (int u = first_joint; u < nu; ++u) {
-      double lower = model.qLower()[u + q_offset], upper = model.qUpper()[u + q_offset];
+      double lower = lower_limit[u + q_offset], upper = model.qUpper()[u + q_offset];
       // The velocity limit from the previous (already final) frame: the smoothing does not bound
       // velocities by itself, and on the fastest captures it would ask more of a motor than the IK did.
       const double reach = t > 0 ? options.velocity_limit_scale * model.uLimit()[u] * (times[static_cast<size_t>(t)] - times[static_cast<size_t>(t - 1)]) : 0.0;

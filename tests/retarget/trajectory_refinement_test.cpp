@@ -69,7 +69,7 @@ TEST(TrajectoryRefinement, SmoothsRealRetargetingAndKeepsTracking) {
   // (the default), which leaves more of this dance's targets out of reach, where the velocity clamp after the
   // smoothing costs more; 52.7 -> 64.0 mm with the feet measured from their median offset to the pelvis
   // (the default since), on whose targets the refinement's velocity clamp costs more (not looked into
-  // further). At most a quarter. (With contact enforcement, the default output, the dance's P1 median is
+  // further); 48.6 -> 54.7 mm with knees kept off their mirrored side (branch_joints.h). At most a quarter. (With contact enforcement, the default output, the dance's P1 median is
   // 36.2 -> 39.8 mm.)
   EXPECT_LT(MedianPriorityOneError(refined_summary), 1.25 * MedianPriorityOneError(raw_summary));
   // The refinement keeps the joint limits.
