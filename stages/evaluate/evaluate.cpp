@@ -90,11 +90,11 @@ std::vector<FootPoints> FeetOnModel(const RobotMap& map, const Model& model) {
   return feet;
 }
 
+namespace {
+
 // What syn-retarget's contact forces leave of the base's residual wrench (motion_file.h): magnitude of
 // the force (N) and moment (N·m, about the centre of mass) over the stored frames, and the mean vertical
 // contact force as a fraction of body weight.
-namespace {
-
 nlohmann::json UnexplainedResidual(const MotionData& motion, double gravity) {
   std::vector<double> force, moment;
   double vertical = 0;

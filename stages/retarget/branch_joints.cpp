@@ -1,5 +1,7 @@
 #include "stages/retarget/branch_joints.h"
 
+#include <algorithm>
+
 namespace syn {
 
 std::vector<bool> BranchCoordinates(const Model& model) {
@@ -19,6 +21,12 @@ Eigen::VectorXd RetargetLowerLimits(const Model& model) {
     if (branch[static_cast<size_t>(i)]) lower[i] = 0.0;
   }
   return lower;
+}
+
+void BendBranchJoints(const std::vector<bool>& branch, Eigen::VectorXd& q) {
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    if (branch[static_cast<size_t>(i)]) q[i] = std::max(q[i], kBranchStart);
+  }
 }
 
 }  // namespace syn

@@ -26,4 +26,8 @@ inline constexpr double kBranchStart = 0.2;  // rad
 // [nq]: the model's lower limits, with each branch joint's raised to 0.
 [[nodiscard]] Eigen::VectorXd RetargetLowerLimits(const Model& model);
 
+// Bends every branch joint of q (`branch`: BranchCoordinates) to at least kBranchStart, where a solver can
+// tell which way it bends.
+void BendBranchJoints(const std::vector<bool>& branch, Eigen::VectorXd& q);
+
 }  // namespace syn

@@ -166,7 +166,8 @@ struct FrameIk::Impl {
   int first_joint = 0, q_offset = 0;
   Eigen::VectorXd delta;
   Eigen::VectorXd lower, upper;              // joint limits per u index (±inf for the base); branch joints >= 0
-  std::vector<int> branch_joints;            // u indexes of branch_joints.h's joints
+  std::vector<bool> branch;                  // [nq] branch_joints.h's coordinates
+  bool has_branch_joints = false;
   // FrameIk::solve's branch retry: the frame's start, and the first answer while the second is tried.
   Eigen::VectorXd retry_q, retry_last_step, first_q, first_last_step;
   Eigen::VectorXd step_lower, step_upper;    // this frame's bounds on δ
@@ -201,12 +202,12 @@ struct FrameIk::Impl {
     lower = Eigen::VectorXd::Constant(model.nu(), -std::numeric_limits<double>::infinity());
     upper = Eigen::VectorXd::Constant(model.nu(), std::numeric_limits<double>::infinity());
     const Eigen::VectorXd retarget_lower = RetargetLowerLimits(model);
-    const std::vector<bool> branch = BranchCoordinates(model);
     for (int u = first_joint; u < model.nu(); ++u) {
       lower[u] = retarget_lower[u + q_offset];
       upper[u] = model.qUpper()[u + q_offset];
-      if (branch[static_cast<size_t>(u + q_offset)]) branch_joints.push_back(u);
     }
+    branch = BranchCoordinates(model);
+    has_branch_joints = std::find(branch.begin(), branch.end(), true) != branch.end();
     step_lower = lower, step_upper = upper;
     held_mask.assign(static_cast<size_t>(model.nu()), 0);
     last_step = predicted_step = Eigen::VectorXd::Zero(model.nu());
@@ -361,26 +362,29 @@ FrameIkSummary FrameIk::solveOnce(const std::vector<IkTarget>& targets, Eigen::V
 // bending only as fast as the motors allow while the planted foot slid 15 mm.
 FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
   Impl& impl = *impl_;
-  if (impl.branch_joints.empty()) return solveOnce(targets, q, step_time);
+  if (!impl.has_branch_joints) return solveOnce(targets, q, step_time);
   impl.retry_q = q;
   impl.retry_last_step = impl.last_step;
   const bool had_last_step = impl.has_last_step;
   FrameIkSummary first = solveOnce(targets, q, step_time);
   bool on_floor = false;
-  for (int u : impl.branch_joints) on_floor = on_floor || q[u + impl.q_offset] <= impl.lower[u] + 1e-6;
+  for (int u = impl.first_joint; u < impl.model.nu(); ++u) {
+    on_floor = on_floor || (impl.branch[static_cast<size_t>(u + impl.q_offset)] && q[u + impl.q_offset] <= impl.lower[u] + 1e-6);
+  }
   if (!on_floor) return first;
   impl.first_q = q;
   impl.first_last_step = impl.last_step;
   q = impl.retry_q;
   impl.last_step = impl.retry_last_step;
   impl.has_last_step = had_last_step;
-  for (int u : impl.branch_joints) q[u + impl.q_offset] = std::max(q[u + impl.q_offset], kBranchStart);
+  BendBranchJoints(impl.branch, q);
   FrameIkSummary second = solveOnce(targets, q, step_time);
-  second.iterations += first.iterations;
+  const int iterations = first.iterations + second.iterations;
   if (second.final_cost < (had_last_step ? kMidTakeBranchSwitch : kBentKneePreference) * first.final_cost) {
+    second.iterations = iterations;
     return second;
   }
-  first.iterations = second.iterations;
+  first.iterations = iterations;
   q = impl.first_q;
   impl.last_step = impl.first_last_step;
   return first;

@@ -271,18 +271,11 @@ MotionData EmptyMotion(const Model& model, const MarkerData& capture, const Land
 void SolveFrames(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
                  const std::vector<LandmarkSample>& reference_samples, const std::vector<Eigen::Isometry3d>& link_reference,
                  const StanceAlignment& alignment, const Eigen::VectorXd& q_start, const RetargetOptions& options,
-                 const std::vector<bool>& branch, FrameIk& ik, MotionData& motion,
-                 std::vector<std::vector<IkTarget>>& frame_targets, std::vector<int64_t>& bridged,
-                 RetargetSummary& report) {
+                 FrameIk& ik, MotionData& motion, std::vector<std::vector<IkTarget>>& frame_targets,
+                 std::vector<int64_t>& bridged, RetargetSummary& report) {
   const int64_t frames = landmarks.frames, nq = static_cast<int64_t>(q_start.size());
   std::vector<IkTarget> targets(tasks.size());
   Eigen::VectorXd q = q_start;
-  // The first frame starts with its knees bent: from a straight leg (a straight reference stance) the
-  // solver cannot tell which way to bend, and a scaled human's foot targets, often just beyond reach, then
-  // leave it straight with the base high, from where the next frames bend it only as fast as the motors allow.
-  for (int64_t i = 0; i < nq; ++i) {
-    if (branch[static_cast<size_t>(i)]) q[i] = std::max(q[i], kBranchStart);
-  }
   double last_solved_time = std::nan("");  // the first solve may travel from q_start freely
   for (int64_t t = 0; t < frames; ++t) {
     if (!FrameTargets(landmarks, tasks, reference_samples, link_reference, alignment, t, targets, motion)) {
@@ -769,9 +762,14 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   std::vector<int64_t> bridged;
   std::vector<std::vector<IkTarget>> frame_targets(static_cast<size_t>(frames));
   const auto start = std::chrono::steady_clock::now();
-  // The take starts from the posture stance: nearer its first frame than a calibration T-pose is.
-  SolveFrames(landmarks, tasks, reference_samples, link_reference, alignment, q_posture, options,
-              BranchCoordinates(model), ik, motion, frame_targets, bridged, report);
+  // The take starts from the posture stance: nearer its first frame than a calibration T-pose is. Its knees
+  // start bent: from a straight leg (a straight reference stance) the solver cannot tell which way to bend,
+  // and a scaled human's foot targets, often just beyond reach, then leave it straight with the base high,
+  // from where the next frames bend it only as fast as the motors allow.
+  Eigen::VectorXd q_start = q_posture;
+  BendBranchJoints(BranchCoordinates(model), q_start);
+  SolveFrames(landmarks, tasks, reference_samples, link_reference, alignment, q_start, options, ik, motion,
+              frame_targets, bridged, report);
   report.ik_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   BridgeGaps(model, motion.time_s, bridged, options.max_bridge, inputs.capture_path, motion.q);
 
