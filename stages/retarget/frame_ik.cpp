@@ -358,8 +358,10 @@ FrameIkSummary FrameIk::solveOnce(const std::vector<IkTarget>& targets, Eigen::V
 // there, 25-80° off). Such a frame is solved again with its branch joints started at kBranchStart, and the
 // answer kept by the costs (kBentKneePreference, kMidTakeBranchSwitch); a frame whose knees are off the floor
 // is solved once. A scaled human's foot just beyond reach makes the straight leg a hair cheaper (0.7 % on
-// CMU 07_01's first frame); taking it there left the next frames, whose bent answer is clearly cheaper,
-// bending only as fast as the motors allow while the planted foot slid 15 mm.
+// CMU 07_01's first frame); taking it there leaves the next frames, whose bent answer is clearly cheaper,
+// bending only as fast as the motors allow while the planted foot slides. (Not cured yet: on 07_01 the
+// first frame's repeated solves, SolveFrames, still settle on a nearly straight knee off the floor, and the
+// right sole slides 18 mm over the first 0.05 s.)
 FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
   Impl& impl = *impl_;
   if (!impl.has_branch_joints) return solveOnce(targets, q, step_time);
