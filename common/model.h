@@ -145,6 +145,12 @@ class Workspace {
   void calcDynamicsAt(const Eigen::VectorXd& q, const Eigen::VectorXd& u, const Eigen::VectorXd& udot,
                       Eigen::VectorXd& momentum, Eigen::VectorXd& tau);
   Eigen::Isometry3d findLinkPoseAtLastDynamics(int link) const;
+  // The mass matrix A(q) itself (nu × nu), by the composite-rigid-body algorithm on the plain-number
+  // tree (O(n · depth), no Simbody realisation), for factoring once per step where many products A⁻¹ x
+  // are needed (stages/simulate's TreeMassFactorization). Requires setQ.
+  void calcMassMatrix(Eigen::MatrixXd& mass);
+  // The same from Simbody's calcM (n multiplyByM passes): the reference the tests hold it to.
+  void calcMassMatrixWithSimbody(Eigen::MatrixXd& mass);
   // out = A(q)⁻¹ v in O(n) (multiplyByMInv). Requires setQ.
   void calcMassInverseTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out);
   // Generalized momentum p = A(q) u. Requires setQ and setU.

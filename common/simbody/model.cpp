@@ -607,13 +607,96 @@ struct MassTimesTree {
   }
 };
 
+// A(q) by the composite-rigid-body algorithm, everything in ground about the ground origin: each
+// body's subtree inertia I_c (6 × 6, (angular, linear) rows) from the leaves in, then A(i, j) =
+// s_jᵀ I_c(body of i) s_i for i's own velocities and its ancestors' j, with s the velocity's motion
+// axis (angular velocity, velocity of the point at the ground origin). O(n · depth); the poses come
+// from a massTimes pass with zero velocities.
+namespace {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+void MassMatrixFromTree(MassTimesTree& tree, bool free_base, const Eigen::VectorXd& q, std::vector<Matrix6d>& composite,
+                        std::vector<Vector6d>& axes, std::vector<int>& body_of_velocity, Eigen::VectorXd& zero,
+                        Eigen::VectorXd& momenta, Eigen::MatrixXd& mass) {
+  using Kind = Model::Impl::MobilityKind;
+  const int nu = static_cast<int>(mass.rows());
+  zero.setZero(nu);
+  momenta.resize(nu);
+  tree.massTimes(free_base, q, zero, momenta);
+  const size_t count = tree.bodies.size();
+  composite.resize(count);
+  axes.resize(static_cast<size_t>(nu));
+  body_of_velocity.resize(static_cast<size_t>(nu));
+  const auto cross_matrix = [](const Eigen::Vector3d& v) {
+    Eigen::Matrix3d m;
+    m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+    return m;
+  };
+  for (size_t b = 1; b < count; ++b) {
+    const MassTimesTree::Body& body = tree.bodies[b];
+    const MassTimesTree::Pose& pose = tree.poses[b];
+    const Eigen::Vector3d com = pose.origin + pose.R * body.com;
+    const Eigen::Matrix3d c = cross_matrix(com);
+    Matrix6d& inertia = composite[b];
+    inertia.topLeftCorner<3, 3>() = pose.R * body.inertia_about_com * pose.R.transpose() - body.mass * c * c;
+    inertia.topRightCorner<3, 3>() = body.mass * c;
+    inertia.bottomLeftCorner<3, 3>() = -body.mass * c;
+    inertia.bottomRightCorner<3, 3>() = body.mass * Eigen::Matrix3d::Identity();
+    const auto set_axis = [&](int u, const Eigen::Vector3d& angular, const Eigen::Vector3d& linear) {
+      axes[static_cast<size_t>(u)] << angular, linear;
+      body_of_velocity[static_cast<size_t>(u)] = static_cast<int>(b);
+    };
+    switch (body.kind) {
+      case Kind::kPin:
+        set_axis(body.u_index, pose.axis, pose.origin.cross(pose.axis));
+        break;
+      case Kind::kSlider:
+        set_axis(body.u_index, Eigen::Vector3d::Zero(), pose.axis);
+        break;
+      case Kind::kFree:
+        for (int k = 0; k < 3; ++k) {
+          set_axis(body.u_index + k, pose.R_GF.col(k), pose.origin.cross(pose.R_GF.col(k)));
+          set_axis(body.u_index + 3 + k, Eigen::Vector3d::Zero(), pose.R_GF.col(k));
+        }
+        break;
+      case Kind::kGround:
+        break;
+    }
+  }
+  for (size_t b = count - 1; b >= 1; --b) {
+    const int parent = tree.bodies[b].parent;
+    if (parent > 0) composite[static_cast<size_t>(parent)] += composite[b];
+  }
+  // Velocities are numbered from the root out, so a body's ancestors' velocities all come before its
+  // own; within a free joint, every one of its six sees the same composite inertia.
+  for (int i = 0; i < nu; ++i) {
+    const int b = body_of_velocity[static_cast<size_t>(i)];
+    const Vector6d force = composite[static_cast<size_t>(b)] * axes[static_cast<size_t>(i)];
+    for (int j = 0; j <= i; ++j) {
+      // j's body is an ancestor of i's (or the same): walk up from i's body.
+      int a = b;
+      const int target = body_of_velocity[static_cast<size_t>(j)];
+      while (a > 0 && a != target) a = tree.bodies[static_cast<size_t>(a)].parent;
+      mass(i, j) = mass(j, i) = a == target ? axes[static_cast<size_t>(j)].dot(force) : 0.0;
+    }
+  }
+}
+
+}  // namespace
+
 struct Workspace::Impl {
   const Model::Impl& model;
   MassTimesTree tree;
   SimTK::State state;
   Eigen::VectorXd q, u;
   SimTK::Vector scratch_in, scratch_out, zero_mobility_forces;
-  SimTK::Matrix jacobian;
+  SimTK::Matrix jacobian, mass_matrix;
+  std::vector<Matrix6d> composite_inertia;  // calcMassMatrix's scratch
+  std::vector<Vector6d> velocity_axes;
+  std::vector<int> body_of_velocity;
+  Eigen::VectorXd zero_velocity, zero_momenta;
   // Gravity as body forces (moment about and force at each body origin, in
   // ground), for the inverse/forward dynamics operators, which take applied
   // forces explicitly. Computed here from each body's mass and COM because
@@ -781,6 +864,22 @@ void Workspace::calcDynamicsAt(const Eigen::VectorXd& q, const Eigen::VectorXd& 
 }
 
 Eigen::Isometry3d Workspace::findLinkPoseAtLastDynamics(int link) const { return impl_->tree.linkPose(link); }
+
+void Workspace::calcMassMatrix(Eigen::MatrixXd& mass) {
+  Impl& impl = *impl_;
+  mass.resize(impl.model.nu, impl.model.nu);
+  MassMatrixFromTree(impl.tree, model_.hasFreeBase(), impl.q, impl.composite_inertia, impl.velocity_axes,
+                     impl.body_of_velocity, impl.zero_velocity, impl.zero_momenta, mass);
+}
+
+void Workspace::calcMassMatrixWithSimbody(Eigen::MatrixXd& mass) {
+  impl_->model.matter.calcM(impl_->state, impl_->mass_matrix);
+  const int n = impl_->model.nu;
+  mass.resize(n, n);
+  for (int c = 0; c < n; ++c) {
+    for (int r = 0; r < n; ++r) mass(r, c) = impl_->mass_matrix(r, c);
+  }
+}
 
 void Workspace::calcMassInverseTimes(const Eigen::VectorXd& v, Eigen::VectorXd& out) {
   impl_->toScratch(v);

@@ -22,7 +22,7 @@
 #include "common/robot_map.h"
 #include "stages/retarget/contact_detection.h"
 #include "stages/retarget/contact_enforcement.h"
-#include "stages/retarget/contact_forces.h"
+#include "common/contact_forces.h"
 
 namespace syn {
 

@@ -38,6 +38,7 @@ OperationalSpaceController::OperationalSpaceController(const Model& model, std::
     : options_(options),
       tasks_(std::move(tasks)),
       hierarchy_(options.hierarchy),
+      mass_(model),
       free_base_(model.hasFreeBase()),
       effort_limit_(model.effortLimit()) {
   const int nu = model.nu();
@@ -83,6 +84,7 @@ OperationalSpaceController::OperationalSpaceController(const Model& model, std::
 int OperationalSpaceController::calcTorques(Workspace& workspace, const std::vector<TaskReference>& references,
                                             const PostureReference& posture, Eigen::VectorXd& tau) {
   const double kp = options_.kp, kv = options_.kv;
+  mass_.factor(workspace);
   const Eigen::VectorXd& q = workspace.getQ();
   const Eigen::VectorXd& u = workspace.getU();
   for (const TaskRows& rows : rows_) {
@@ -119,7 +121,7 @@ int OperationalSpaceController::calcTorques(Workspace& workspace, const std::vec
   walls.jacobian.resize(0, workspace.model().nu());
   walls.acceleration.resize(0);
   for (int pass = 0; pass < kLimitPasses; ++pass) {
-    hierarchy_.calcTorques(workspace, levels_, posture_acceleration_, tau);
+    hierarchy_.calcTorques(workspace, mass_, levels_, posture_acceleration_, tau);
     if (!addViolatedWalls(workspace, tau)) break;
     const Eigen::Index count = static_cast<Eigen::Index>(active_limits_.size());
     walls.jacobian.setZero(count, workspace.model().nu());
@@ -128,7 +130,7 @@ int OperationalSpaceController::calcTorques(Workspace& workspace, const std::vec
       walls.jacobian(r, active_limits_[static_cast<size_t>(r)].u_index) = 1.0;
       walls.acceleration[r] = active_limits_[static_cast<size_t>(r)].acceleration;
     }
-    if (pass + 1 == kLimitPasses) hierarchy_.calcTorques(workspace, levels_, posture_acceleration_, tau);
+    if (pass + 1 == kLimitPasses) hierarchy_.calcTorques(workspace, mass_, levels_, posture_acceleration_, tau);
   }
   workspace.calcInverseDynamics(zero_, bias_forces_);  // b(q, u) + g(q)
   tau += bias_forces_;
@@ -139,14 +141,20 @@ int OperationalSpaceController::calcTorques(Workspace& workspace, const std::vec
     if (tau[i] > limit) tau[i] = limit, ++saturated;
     else if (tau[i] < -limit) tau[i] = -limit, ++saturated;
   }
-  if (saturated > 0) redistributeClippedTorque(workspace, tau);
+  if (saturated > 0) redistributeClippedTorque(tau);
   return saturated;
+}
+
+void OperationalSpaceController::calcAcceleration(const Eigen::VectorXd& tau, Eigen::VectorXd& udot) const {
+  udot = tau - bias_forces_;
+  mass_.solveInPlace(udot);
 }
 
 bool OperationalSpaceController::addViolatedWalls(Workspace& workspace, const Eigen::VectorXd& task_torques) {
   if (limited_joints_.empty()) return false;
   // The torques exclude gravity and velocity terms, so A⁻¹ Γ is the acceleration they plan.
-  workspace.calcMassInverseTimes(task_torques, planned_udot_);
+  planned_udot_ = task_torques;
+  mass_.solveInPlace(planned_udot_);
   const Eigen::VectorXd& q = workspace.getQ();
   const Eigen::VectorXd& u = workspace.getU();
   bool added = false;
@@ -168,7 +176,7 @@ bool OperationalSpaceController::addViolatedWalls(Workspace& workspace, const Ei
   return added;
 }
 
-void OperationalSpaceController::redistributeClippedTorque(Workspace& workspace, Eigen::VectorXd& tau) {
+void OperationalSpaceController::redistributeClippedTorque(Eigen::VectorXd& tau) {
   // A clipped joint no longer does what the hierarchy planned, and every other torque was computed to
   // work with the planned one: left as they are, they push against the clipped joint, its error grows
   // and the plan asks still more of it — on the 02_01 walk the waist (50 N·m, where the kinematic motion
@@ -180,7 +188,8 @@ void OperationalSpaceController::redistributeClippedTorque(Workspace& workspace,
   // replaced) left 3 of 16 CMU walks diverging and 8 within 3° of the kinematic motion; this, 1 and 9.
   const int n = static_cast<int>(tau.size());
   scratch_ = unclipped_ - bias_forces_;
-  workspace.calcMassInverseTimes(scratch_, wanted_udot_);
+  wanted_udot_ = scratch_;
+  mass_.solveInPlace(wanted_udot_);
   for (int round = 0; round < kClipRounds; ++round) {
     free_.clear();
     for (int i = 0; i < n; ++i) {
@@ -188,13 +197,15 @@ void OperationalSpaceController::redistributeClippedTorque(Workspace& workspace,
     }
     const int m = static_cast<int>(free_.size());
     scratch_ = tau - bias_forces_;
-    workspace.calcMassInverseTimes(scratch_, clipped_udot_);
+    clipped_udot_ = scratch_;
+    mass_.solveInPlace(clipped_udot_);
     free_block_.resize(m, m);
     free_gap_.resize(m);
     for (int c = 0; c < m; ++c) {
       scratch_.setZero(n);
       scratch_[free_[static_cast<size_t>(c)]] = 1.0;
-      workspace.calcMassInverseTimes(scratch_, column_);
+      column_ = scratch_;
+      mass_.solveInPlace(column_);
       for (int r = 0; r < m; ++r) free_block_(r, c) = column_[free_[static_cast<size_t>(r)]];
     }
     for (int r = 0; r < m; ++r) free_gap_[r] = wanted_udot_[free_[static_cast<size_t>(r)]] - clipped_udot_[free_[static_cast<size_t>(r)]];

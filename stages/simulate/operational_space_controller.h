@@ -67,6 +67,13 @@ class OperationalSpaceController {
   // Returns the number of actuated entries that hit their effort limit.
   int calcTorques(Workspace& workspace, const std::vector<TaskReference>& references, const PostureReference& posture,
                   Eigen::VectorXd& tau);
+  // After calcTorques: the forward dynamics udot = A⁻¹ (tau − b − g) at the same state, from the
+  // factor and the bias forces that call computed (what Workspace::calcForwardDynamics gives, to
+  // rounding, without two more passes over the tree).
+  void calcAcceleration(const Eigen::VectorXd& tau, Eigen::VectorXd& udot) const;
+  // After calcTorques: A and b + g at its state.
+  const Eigen::MatrixXd& massMatrix() const { return mass_.mass(); }
+  const Eigen::VectorXd& biasForces() const { return bias_forces_; }
   // After calcTorques: how many joint-limit walls the last call made active.
   int activeLimitCount() const { return static_cast<int>(active_limits_.size()); }
 
@@ -85,6 +92,7 @@ class OperationalSpaceController {
   std::vector<TaskRows> rows_;
   std::vector<PriorityLevel> levels_;
   PrioritizedControl hierarchy_;
+  TreeMassFactorization mass_;  // A at the step's configuration, factored once for every A⁻¹ x
   bool free_base_;
   Eigen::VectorXd effort_limit_;
   struct LimitedJoint {
@@ -106,7 +114,7 @@ class OperationalSpaceController {
   std::vector<int> free_;
   Eigen::VectorXd unclipped_, scratch_, wanted_udot_, clipped_udot_, column_, free_gap_, free_step_;
   Eigen::MatrixXd free_block_;
-  void redistributeClippedTorque(Workspace& workspace, Eigen::VectorXd& tau);
+  void redistributeClippedTorque(Eigen::VectorXd& tau);
 };
 
 }  // namespace syn

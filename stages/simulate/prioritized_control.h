@@ -18,8 +18,8 @@
 // never changes a higher level's acceleration (J_j A⁻¹ J_k|ᵀ = 0 for j < k): level 1 tracks exactly
 // as if level 2 did not exist. The damping only shortens F_k in nearly singular directions.
 //
-// Cost per call: Σ m_k products A⁻¹ x (Simbody multiplyByMInv, O(nu) each) and one A x; A is never
-// formed or inverted. Only the m_k × m_k matrices are dense. No allocation after the first call
+// Cost per call: Σ m_k products A⁻¹ x (substitutions with the caller's sparse factor of A, O(nu · depth)
+// each) and one A x; A is never inverted. Only the m_k × m_k matrices are dense. No allocation after the first call
 // with a given level layout.
 #pragma once
 
@@ -29,6 +29,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "common/model.h"
+#include "stages/simulate/tree_mass_factorization.h"
 
 namespace syn {
 
@@ -54,9 +55,9 @@ class PrioritizedControl {
  public:
   explicit PrioritizedControl(const PrioritizedControlOptions& options = {}) : options_(options) {}
 
-  // Γ (nu) for the state `workspace` holds (setQ and setU done): the task and posture torques, without
-  // gravity and velocity terms. `posture_acceleration` (nu) is a_p.
-  void calcTorques(Workspace& workspace, const std::vector<PriorityLevel>& levels,
+  // Γ (nu) for the state `workspace` holds (setQ and setU done; `mass` factored there): the task and
+  // posture torques, without gravity and velocity terms. `posture_acceleration` (nu) is a_p.
+  void calcTorques(Workspace& workspace, const TreeMassFactorization& mass, const std::vector<PriorityLevel>& levels,
                    const Eigen::VectorXd& posture_acceleration, Eigen::VectorXd& torques);
 
   // After calcTorques: A⁻¹ Γ_tasks (the acceleration the task torques alone give) and the rank each
@@ -67,7 +68,7 @@ class PrioritizedControl {
  private:
   struct SolvedLevel {
     Eigen::MatrixXd projected;   // J_k| [m_k, nu]
-    Eigen::MatrixXd minv_jt;     // A⁻¹ J_k|ᵀ [nu, m_k]
+    Eigen::MatrixXd j_minv;      // J_k| A⁻¹ [m_k, nu] (A⁻¹ J_k|ᵀ transposed)
     Eigen::MatrixXd inertia;     // Λ_k [m_k, m_k]
     std::vector<Eigen::MatrixXd> couplings, weighted;  // J_k A⁻¹ J_j|ᵀ and that times Λ_j, per level j above
     Eigen::MatrixXd operational, scaled;               // J_k| A⁻¹ J_k|ᵀ and its eigenvectors scaled
@@ -75,10 +76,12 @@ class PrioritizedControl {
     Eigen::VectorXd posture_residual, posture_force;   // the posture's projection scratch
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen;
     Eigen::VectorXd inverse_eigenvalues, damped_inverse_eigenvalues;
-    Eigen::MatrixXd damped_inertia;  // Λ̃_k, for F_k only
+    Eigen::VectorXd scaled_residual, term;  // F_k's products
     Eigen::VectorXd row_scale;       // D
     int rank = 0;
   };
+  // Λ_k and F_k from the unit-diagonal Φ' (solved.operational), row_scale and residual.
+  void invertByEigenvectors(SolvedLevel& solved) const;
   PrioritizedControlOptions options_;
   std::vector<SolvedLevel> solved_;
   Eigen::VectorXd udot_tasks_, column_, product_;

@@ -1,15 +1,26 @@
 #include "stages/simulate/simulation.h"
 
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <sstream>
 
+#include <Eigen/Cholesky>
+
 #include "common/error.h"
+#include "stages/simulate/contact_consistent_torques.h"
+#include "stages/simulate/ground_contact.h"
 
 namespace syn {
 namespace {
 
 constexpr double kDegreesPerRadian = 180.0 / M_PI;
 constexpr double kDivergedVelocity = 1e4;
+// Ground mode: the robot has fallen when its pelvis is under this fraction of the reference's height.
+constexpr double kFallenPelvisRatio = 0.6;
+// Ground mode: sole points this close above the floor may carry the planned contact forces (the
+// compliant contact sinks a standing G1's soles about 0.8 mm).
+constexpr double kPlannedContactHeight = 0.002;
 
 double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return 2.0 * std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized()))));
@@ -44,7 +55,7 @@ void MeasureErrors(Workspace& workspace, const std::vector<ControlledTask>& task
 
 }  // namespace
 
-std::string_view ContactModeName(ContactMode) { return "none"; }
+std::string_view ContactModeName(ContactMode mode) { return mode == ContactMode::kGround ? "ground" : "none"; }
 
 bool SimulateOptions::IsValid(std::string* error) const {
   const auto fail = [&](const std::string& message) {
@@ -61,6 +72,9 @@ bool SimulateOptions::IsValid(std::string* error) const {
   }
   const double damping = controller.hierarchy.damping;
   if (!(damping >= 0 && damping < 1)) return fail("--damping must be in [0, 1), got " + std::to_string(damping));
+  if (contact == ContactMode::kGround && integrator != Integrator::kSemiImplicitEuler) {
+    return fail("--contact ground needs --integrator euler (the friction anchors move once per step)");
+  }
   return true;
 }
 
@@ -90,7 +104,15 @@ std::string SimulateSummary::BriefReport() const {
 
 std::string SimulateSummary::FullReport() const {
   std::ostringstream out;
-  out << BriefReport() << "\n  saturated joint-steps: " << saturated_entries << "\n  " << message;
+  out.precision(3);
+  out << BriefReport() << "\n  saturated joint-steps: " << saturated_entries;
+  if (deepest_penetration_mm >= 0) {
+    out << "\n  ground: deepest sole point " << deepest_penetration_mm << " mm below the floor, lowest pelvis "
+        << lowest_pelvis_ratio * 100 << " % of the reference's height, peak vertical force " << peak_vertical_force_n
+        << " N; base wrench no sole force explains (RMS): " << unexplained_force_rms_n << " N, "
+        << unexplained_torque_rms_nm << " N·m";
+  }
+  out << "\n  " << message;
   return out.str();
 }
 
@@ -109,6 +131,29 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   const std::vector<ControlledTask> tasks = BindTasks(map, model, input);
   const TaskReferences references(input, model, tasks, options.targets);
   OperationalSpaceController controller(model, tasks, options.controller);
+  const bool ground = options.contact == ContactMode::kGround;
+  if (ground && !model.hasFreeBase()) {
+    throw UsageError("--contact ground needs a free-floating base (the robot stands on its feet)");
+  }
+  if (ground && map.feet.empty()) {
+    throw DataError(Location::InFile(map.file), "--contact ground needs the robot map's [feet] sole points");
+  }
+  std::optional<GroundContact> ground_contact;
+  std::optional<ContactConsistentTorques> distribution;
+  // The source's planted flags per map foot (zero where the motion has none).
+  std::vector<int> contact_column(map.feet.size(), -1);
+  if (ground) {
+    ground_contact.emplace(model, map.feet, GroundContactOptions{});
+    ContactForceOptions planned;
+    planned.max_height = kPlannedContactHeight;
+    distribution.emplace(model, map.feet, planned, options.controller.effort_limits);
+    for (size_t f = 0; f < map.feet.size(); ++f) {
+      for (size_t c = 0; c < input.contact_feet.size(); ++c) {
+        if (input.contact_feet[c] == map.feet[f].side) contact_column[f] = static_cast<int>(c);
+      }
+    }
+  }
+  std::vector<int64_t> planted(map.feet.size(), 0);
   FixedStepIntegrator integrator(model);
   Workspace workspace(model);
 
@@ -135,24 +180,56 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
 
   Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(input.q.data(), nq);
   Eigen::VectorXd u = Eigen::Map<const Eigen::VectorXd>(input.u.data(), nu);
-  Eigen::VectorXd tau(nu), udot(nu);
+  Eigen::VectorXd tau(nu), udot(nu), contact_forces(nu), applied(nu);
+  Eigen::MatrixXd contact_stiffness(nu, nu), contact_damping(nu, nu), implicit_mass(nu, nu);
+  Eigen::LDLT<Eigen::MatrixXd> implicit_solver(nu);
   std::vector<TaskReference> task_references;
   PostureReference posture;
   summary.steps = summary.saturated_steps = summary.saturated_entries = summary.limited_steps = 0;
   double joint_sq = 0, joint_max = 0, p1_position_sq = 0, p1_angle_sq = 0;
   int64_t joint_count = 0, p1_position_count = 0, p1_angle_count = 0;
-  const auto control = [&](int64_t frame, double fraction) {
+  const auto control = [&](int64_t frame, double fraction, double dt) {
     workspace.setQ(q);
     workspace.setU(u);
     references.sample(frame, fraction, task_references, posture);
-    const int saturated = controller.calcTorques(workspace, task_references, posture, tau);
+    int saturated = controller.calcTorques(workspace, task_references, posture, tau);
+    if (ground) {
+      for (size_t f = 0; f < planted.size(); ++f) {
+        const int c = contact_column[f];
+        planted[f] = c < 0 ? 0 : input.contact[static_cast<size_t>(frame) * input.contact_feet.size() + static_cast<size_t>(c)];
+      }
+      saturated += distribution->apply(workspace, controller, planted.data(), tau);
+      ground_contact->calcForces(workspace, contact_forces, contact_stiffness, contact_damping);
+      // Linearly implicit in the contact forces: (A + h B + h² K) u̇ = τ + f − b − g − h K u, the step
+      // semi-implicit Euler takes with the forces at its end (u + h u̇, q + h (u + h u̇)) to first order.
+      applied = tau + contact_forces - controller.biasForces();
+      applied.noalias() -= dt * (contact_stiffness * u);
+      implicit_mass = controller.massMatrix() + dt * contact_damping + dt * dt * contact_stiffness;
+      implicit_solver.compute(implicit_mass);
+      udot = implicit_solver.solve(applied);
+    } else {
+      controller.calcAcceleration(tau, udot);
+    }
     summary.saturated_entries += saturated;
     summary.saturated_steps += saturated > 0 ? 1 : 0;
     summary.limited_steps += controller.activeLimitCount() > 0 ? 1 : 0;
-    workspace.calcForwardDynamics(tau, udot);
   };
+  if (ground) {
+    out.contact_feet.clear();
+    for (const RobotFoot& foot : map.feet) out.contact_feet.push_back(foot.side);
+    out.contact.assign(static_cast<size_t>(frames) * map.feet.size(), 0);
+    out.contact_force.assign(static_cast<size_t>(frames) * map.feet.size() * 3, 0.0);
+    out.unexplained_wrench.assign(static_cast<size_t>(frames) * 6, 0.0);
+    summary.deepest_penetration_mm = 0;
+    summary.lowest_pelvis_ratio = std::numeric_limits<double>::infinity();
+    summary.peak_vertical_force_n = 0;
+  }
+  double unexplained_force_sq = 0, unexplained_torque_sq = 0;
   for (int64_t t = 0; t < frames; ++t) {
-    control(t, 0.0);
+    const double next_dt = t + 1 < frames ? (input.time_s[static_cast<size_t>(t + 1)] - input.time_s[static_cast<size_t>(t)]) /
+                                                std::max<double>(1.0, std::ceil((input.time_s[static_cast<size_t>(t + 1)] - input.time_s[static_cast<size_t>(t)]) * options.rate - 1e-9))
+                                          : 1.0 / options.rate;
+    control(t, 0.0, next_dt);
     // Record the frame: the state, the acceleration and torques the controller commands there.
     std::copy(q.data(), q.data() + nq, out.q.begin() + t * nq);
     std::copy(u.data(), u.data() + nu, out.u.begin() + t * nu);
@@ -160,6 +237,19 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     std::copy(tau.data(), tau.data() + nu, out.tau.begin() + t * nu);
     MeasureErrors(workspace, tasks, input, t, task_references, out, p1_position_sq, p1_angle_sq, p1_position_count,
                   p1_angle_count);
+    if (ground) {
+      const size_t feet = map.feet.size();
+      for (size_t f = 0; f < feet; ++f) {
+        const Eigen::Vector3d& force = ground_contact->footForce()[f];
+        out.contact[static_cast<size_t>(t) * feet + f] = ground_contact->footTouches(f) ? 1 : 0;
+        std::copy(force.data(), force.data() + 3, out.contact_force.begin() + static_cast<std::ptrdiff_t>((static_cast<size_t>(t) * feet + f) * 3));
+        summary.peak_vertical_force_n = std::max(summary.peak_vertical_force_n, force.z());
+      }
+      const Eigen::Matrix<double, 6, 1>& unexplained = distribution->planned().unexplained;
+      std::copy(unexplained.data(), unexplained.data() + 6, out.unexplained_wrench.begin() + t * 6);
+      unexplained_torque_sq += unexplained.head<3>().squaredNorm();
+      unexplained_force_sq += unexplained.tail<3>().squaredNorm();
+    }
     for (const ModelJoint& joint : model.joints()) {
       if (joint.q_index < 0 || joint.type == "free") continue;
       const double error = q[joint.q_index] - input.q[static_cast<size_t>(t * nq + joint.q_index)];
@@ -171,16 +261,35 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     const int64_t steps = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(interval * options.rate - 1e-9)));
     const double dt = interval / static_cast<double>(steps);
     for (int64_t step = 0; step < steps; ++step) {
-      if (step > 0) control(t, static_cast<double>(step) / static_cast<double>(steps));
+      if (step > 0) control(t, static_cast<double>(step) / static_cast<double>(steps), dt);
       integrator.step(workspace, options.integrator, tau, dt, &udot, q, u);
       ++summary.steps;
       // Any velocity above 10⁴ (rad/s or m/s) is a blown-up step, caught before Simbody sees NaN poses.
       if (!q.allFinite() || !u.allFinite() || u.cwiseAbs().maxCoeff() > kDivergedVelocity) {
         throw DataError(Location::AtFrame(input_name, t), "the simulation diverged at t = " + std::to_string(input.time_s[static_cast<size_t>(t)] + (step + 1) * dt) + " s");
       }
+      if (ground) {
+        summary.deepest_penetration_mm = std::max(summary.deepest_penetration_mm, ground_contact->deepestPenetration() * 1000);
+        // The base's position is q[4..6] (after its quaternion); the reference's at the frame ahead.
+        const double fraction = static_cast<double>(step + 1) / static_cast<double>(steps);
+        const double reference = (1 - fraction) * input.q[static_cast<size_t>(t * nq + 6)] + fraction * input.q[static_cast<size_t>((t + 1) * nq + 6)];
+        const double ratio = q[6] / reference;
+        summary.lowest_pelvis_ratio = std::min(summary.lowest_pelvis_ratio, ratio);
+        if (ratio < kFallenPelvisRatio) {
+          std::ostringstream why;
+          why.precision(3);
+          why << "fell at t = " << input.time_s[static_cast<size_t>(t)] + (step + 1) * dt << " s: the pelvis is " << q[6]
+              << " m high, under " << kFallenPelvisRatio * 100 << " % of the reference's " << reference << " m";
+          throw DataError(Location::InFile(input_name), why.str());
+        }
+      }
     }
   }
   summary.frames = frames;
+  if (ground) {
+    summary.unexplained_force_rms_n = std::sqrt(unexplained_force_sq / static_cast<double>(frames));
+    summary.unexplained_torque_rms_nm = std::sqrt(unexplained_torque_sq / static_cast<double>(frames));
+  }
   summary.joint_rms_deg = joint_count > 0 ? std::sqrt(joint_sq / static_cast<double>(joint_count)) * kDegreesPerRadian : 0;
   summary.joint_max_deg = joint_max * kDegreesPerRadian;
   summary.p1_position_rms_m = p1_position_count > 0 ? std::sqrt(p1_position_sq / static_cast<double>(p1_position_count)) : 0;

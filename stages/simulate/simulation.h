@@ -21,7 +21,9 @@
 
 namespace syn {
 
-enum class ContactMode { kNone };  // none: the paper's setting, a driven floating base and no ground
+// none: the paper's setting, a driven floating base and no ground; ground: compliant sole contact with
+// the plane z = 0, the base unactuated and the controller's forces made contact-consistent.
+enum class ContactMode { kNone, kGround };
 [[nodiscard]] std::string_view ContactModeName(ContactMode mode);
 
 struct SimulateOptions {
@@ -48,6 +50,14 @@ struct SimulateSummary {
   double joint_max_deg = -1;       // the largest |q_sim − q_kinematic| (deg)
   double p1_position_rms_m = -1;   // priority-1 tasks' position error to the references tracked (m)
   double p1_angle_rms_deg = -1;    // ... and angle error (deg)
+  // Ground mode only (-1 otherwise): the deepest sole point below the floor over the run (mm), the
+  // lowest pelvis height as a fraction of the reference's at the same time, the RMS over frames of the
+  // base wrench no admissible sole force explained (N, N·m), and the largest vertical ground force (N).
+  double deepest_penetration_mm = -1;
+  double lowest_pelvis_ratio = -1;
+  double unexplained_force_rms_n = -1;
+  double unexplained_torque_rms_nm = -1;
+  double peak_vertical_force_n = -1;
 
   std::string BriefReport() const;
   std::string FullReport() const;
@@ -59,7 +69,8 @@ struct SimulationResult {
 };
 
 // Throws DataError (naming `motion_name`, the file it came from) when the motion does not fit the model,
-// has no frames or the simulation diverges.
+// has no frames or the simulation diverges, and in ground mode when the robot falls ("fell at t = … s":
+// the pelvis under 60 % of the reference's height at that time).
 [[nodiscard]] SimulationResult Simulate(const MotionData& motion, const std::string& motion_name, const Model& model,
                                         const RobotMap& map, const SimulateOptions& options);
 

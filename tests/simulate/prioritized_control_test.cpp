@@ -39,7 +39,8 @@ std::string SmallRobotUrdf() {
 struct SmallRobot {
   Model model;
   Workspace workspace;
-  explicit SmallRobot(uint32_t seed) : model(Model::Load(SmallRobotUrdf())), workspace(model) {
+  TreeMassFactorization mass;
+  explicit SmallRobot(uint32_t seed) : model(Model::Load(SmallRobotUrdf())), workspace(model), mass(model) {
     std::mt19937 random(seed);
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
     Eigen::VectorXd q(model.nq()), u(model.nu());
@@ -47,6 +48,7 @@ struct SmallRobot {
     for (int i = 0; i < u.size(); ++i) u[i] = uniform(random);
     workspace.setQ(q);
     workspace.setU(u);
+    mass.factor(workspace);
   }
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian(const std::string& link) {
     Eigen::Matrix<double, 6, Eigen::Dynamic> j;
@@ -90,7 +92,7 @@ TEST(PrioritizedControl, MatchesDenseReferenceComputation) {
   undamped.damping = 0.0;
   PrioritizedControl control(undamped);
   Eigen::VectorXd torques;
-  control.calcTorques(robot.workspace, levels, posture, torques);
+  control.calcTorques(robot.workspace, robot.mass, levels, posture, torques);
   ASSERT_EQ(control.keptRank(0), 6);
   ASSERT_EQ(control.keptRank(1), 4);
 
@@ -127,7 +129,7 @@ TEST(PrioritizedControl, ConflictingPriority2LeavesPriority1Unchanged) {
   const Eigen::VectorXd posture = Eigen::VectorXd::Constant(n, 0.5);
   PrioritizedControl alone, stacked;
   Eigen::VectorXd torques_alone, torques_stacked, udot_alone, udot_stacked;
-  alone.calcTorques(robot.workspace, Levels(robot, false), posture, torques_alone);
+  alone.calcTorques(robot.workspace, robot.mass, Levels(robot, false), posture, torques_alone);
   // Level 2 asks for more than the 6 velocities level 1 leaves free, including the level-1 link's own
   // position with another acceleration: torso orientation, the arm's elbow and tip positions.
   std::vector<PriorityLevel> levels = Levels(robot, false);
@@ -137,7 +139,7 @@ TEST(PrioritizedControl, ConflictingPriority2LeavesPriority1Unchanged) {
   levels[1].jacobian.middleRows(3, 3) = robot.jacobian("a3").bottomRows(3);
   levels[1].jacobian.bottomRows(3) = robot.jacobian("a4").bottomRows(3);
   levels[1].acceleration = (Eigen::VectorXd(9) << 4.0, -3.0, 2.0, -5.0, 6.0, 1.5, -1.0, 2.0, -3.0).finished();
-  stacked.calcTorques(robot.workspace, levels, posture, torques_stacked);
+  stacked.calcTorques(robot.workspace, robot.mass, levels, posture, torques_stacked);
   robot.workspace.calcMassInverseTimes(torques_alone, udot_alone);
   robot.workspace.calcMassInverseTimes(torques_stacked, udot_stacked);
   const Eigen::VectorXd level1_alone = levels[0].jacobian * udot_alone;

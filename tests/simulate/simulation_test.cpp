@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/error.h"
 #include "common/model.h"
 #include "common/robot_map.h"
 #include "stages/simulate/fixed_step_integrator.h"
@@ -112,6 +113,84 @@ TEST(Simulate, SameInputsGiveIdenticalOutputs) {
   const SimulationResult second = Simulate(excerpt, "02_01", model, map, SimulateOptions{});
   EXPECT_EQ(first.motion.q, second.motion.q);
   EXPECT_EQ(first.motion.tau, second.motion.tau);
+}
+
+}  // namespace
+}  // namespace syn
+
+namespace syn {
+namespace {
+
+// A G1 standing still: the URDF's zero pose with knees and hips a little bent, the pelvis at the height
+// that puts the robot map's soles on z = 0 (found by FK here), held for `seconds` at 120 Hz.
+MotionData StandingMotion(const Model& model, const RobotMap& map, double seconds) {
+  Eigen::VectorXd q = model.defaultQ();
+  for (const ModelJoint& joint : model.joints()) {
+    if (joint.name.find("knee") != std::string::npos) q[joint.q_index] = 0.3;
+    if (joint.name.find("hip_pitch") != std::string::npos) q[joint.q_index] = -0.15;
+    if (joint.name.find("ankle_pitch") != std::string::npos) q[joint.q_index] = -0.15;
+  }
+  q[6] = 1.0;
+  Workspace workspace(model);
+  workspace.setQ(q);
+  double lowest = 1e9;
+  for (const RobotFoot& foot : map.feet) {
+    const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
+    for (const auto& p : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(p[0], p[1], p[2])).z());
+  }
+  q[6] -= lowest;
+  MotionData motion;
+  motion.coordinate_names = model.coordinateNames();
+  motion.velocity_names = model.velocityNames();
+  motion.model_name = model.name();
+  motion.model_sha256 = model.sourceSha256();
+  for (const RobotFoot& foot : map.feet) motion.contact_feet.push_back(foot.side);
+  const int frames = static_cast<int>(seconds * 120.0) + 1;
+  for (int t = 0; t < frames; ++t) {
+    motion.time_s.push_back(t / 120.0);
+    motion.q.insert(motion.q.end(), q.data(), q.data() + q.size());
+    motion.u.insert(motion.u.end(), static_cast<size_t>(model.nu()), 0.0);
+    motion.udot.insert(motion.udot.end(), static_cast<size_t>(model.nu()), 0.0);
+    motion.tau.insert(motion.tau.end(), static_cast<size_t>(model.nu()), 0.0);
+    motion.contact.insert(motion.contact.end(), map.feet.size(), 1);
+  }
+  return motion;
+}
+
+// Ground mode on a robot asked to stand: it stays up, its soles stay within 1 cm of the floor, and the
+// ground carries its weight (the feet's vertical forces sum to m g within 5 % once settled).
+TEST(Simulate, GroundModeStandingRobotStaysUpOnItsSoles) {
+  const Model model = Model::Load(SourcePath(testing::kG1Urdf));
+  const RobotMap map = LoadRobotMap(SourcePath("manifests/robots/g1.toml"));
+  const MotionData motion = StandingMotion(model, map, 1.0);
+  SimulateOptions options;
+  options.contact = ContactMode::kGround;
+  const SimulationResult result = Simulate(motion, "standing", model, map, options);
+  EXPECT_GT(result.summary.lowest_pelvis_ratio, 0.95);
+  EXPECT_LT(result.summary.deepest_penetration_mm, 10.0);
+  const size_t feet = map.feet.size(), last = result.motion.time_s.size() - 1;
+  double vertical = 0;
+  for (size_t f = 0; f < feet; ++f) vertical += result.motion.contact_force[(last * feet + f) * 3 + 2];
+  EXPECT_NEAR(vertical, model.totalMass() * 9.81, 0.05 * model.totalMass() * 9.81);
+  std::cout << "standing 1 s on the ground: lowest pelvis " << result.summary.lowest_pelvis_ratio * 100
+            << " %, deepest sole " << result.summary.deepest_penetration_mm << " mm, final vertical force " << vertical
+            << " N (weight " << model.totalMass() * 9.81 << " N)\n";
+}
+
+// A robot that starts far below its reference (pelvis under 60 % of it) has fallen: the stage stops.
+TEST(Simulate, GroundModeReportsAFall) {
+  const Model model = Model::Load(SourcePath(testing::kG1Urdf));
+  const RobotMap map = LoadRobotMap(SourcePath("manifests/robots/g1.toml"));
+  MotionData motion = StandingMotion(model, map, 0.2);
+  motion.q[6] *= 0.5;  // the first frame, where the simulation starts: half the reference's height
+  SimulateOptions options;
+  options.contact = ContactMode::kGround;
+  try {
+    (void)Simulate(motion, "sunk", model, map, options);
+    ADD_FAILURE() << "no fall reported";
+  } catch (const DataError& error) {
+    EXPECT_NE(std::string(error.what()).find("fell at t = "), std::string::npos) << error.what();
+  }
 }
 
 }  // namespace

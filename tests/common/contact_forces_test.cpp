@@ -9,8 +9,8 @@
 
 #include "common/model.h"
 #include "common/robot_map.h"
-#include "stages/retarget/contact_forces.h"
-#include "stages/retarget/nonnegative_least_squares.h"
+#include "common/contact_forces.h"
+#include "common/nonnegative_least_squares.h"
 #include "tests/support/demo_motion.h"
 #include "tests/support/shared_data.h"
 #include "tests/support/standing_pose.h"

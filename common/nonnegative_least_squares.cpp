@@ -1,4 +1,4 @@
-#include "stages/retarget/nonnegative_least_squares.h"
+#include "common/nonnegative_least_squares.h"
 
 #include <algorithm>
 #include <limits>

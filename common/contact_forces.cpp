@@ -1,4 +1,4 @@
-#include "stages/retarget/contact_forces.h"
+#include "common/contact_forces.h"
 
 #include <cmath>
 #include <string>
@@ -49,6 +49,7 @@ bool ContactForceOptions::IsValid(std::string* error) const {
 ContactForceSplit::ContactForceSplit(const Model& model, const std::vector<RobotFoot>& feet,
                                      const ContactForceOptions& options)
     : feet_(feet), options_(options), solver_(MaxColumns(feet)) {
+  for (const RobotFoot& foot : feet_) point_count_ += foot.sole_points.size();
   base_link_ = FindBaseLink(model, unactuated_);
   if (base_link_ < 0) return;
   if (unactuated_.size() != 6) {
@@ -65,6 +66,7 @@ ContactForceSplit::ContactForceSplit(const Model& model, const std::vector<Robot
   jacobian_.resize(6, model.nu());
   columns_.resize(6, max_columns);
   column_foot_.resize(static_cast<size_t>(max_columns));
+  column_point_.resize(static_cast<size_t>(max_columns));
   weights_.resize(max_columns);
 }
 
@@ -72,6 +74,8 @@ void ContactForceSplit::split(Workspace& workspace, const Eigen::VectorXd& u, co
                               ContactForceFrame& out) {
   out.foot_force.resize(feet_.size());
   for (Eigen::Vector3d& force : out.foot_force) force.setZero();
+  out.point_force.resize(point_count_);
+  for (Eigen::Vector3d& force : out.point_force) force.setZero();
   out.residual.setZero();
   out.unexplained.setZero();
   if (base_link_ < 0) return;
@@ -87,11 +91,12 @@ void ContactForceSplit::split(Workspace& workspace, const Eigen::VectorXd& u, co
   }
   out.residual = base_jacobian.transpose().partialPivLu().solve(base_tau);
 
-  int n = 0;
+  int n = 0, point_number = 0;
   for (size_t f = 0; f < feet_.size(); ++f) {
     const Eigen::Isometry3d foot_pose = workspace.findLinkPose(foot_links_[f]);
     bool twist_known = false;  // an unplanted foot's velocity, computed once one of its points is down
     for (const std::array<double, 3>& local : feet_[f].sole_points) {
+      const int this_point = point_number++;
       const Eigen::Vector3d point = foot_pose * Eigen::Vector3d(local[0], local[1], local[2]);
       if (point.z() > options_.max_height) continue;
       if (!planted[f]) {
@@ -108,6 +113,7 @@ void ContactForceSplit::split(Workspace& workspace, const Eigen::VectorXd& u, co
         columns_.col(n).head<3>() = arm.cross(edge);
         columns_.col(n).tail<3>() = edge;
         column_foot_[static_cast<size_t>(n)] = static_cast<int>(f);
+        column_point_[static_cast<size_t>(n)] = this_point;
         ++n;
       }
     }
@@ -116,6 +122,7 @@ void ContactForceSplit::split(Workspace& workspace, const Eigen::VectorXd& u, co
   out.unexplained = out.residual - columns_.leftCols(n) * weights_.head(n);
   for (int c = 0; c < n; ++c) {
     out.foot_force[static_cast<size_t>(column_foot_[static_cast<size_t>(c)])] += weights_(c) * columns_.col(c).tail<3>();
+    out.point_force[static_cast<size_t>(column_point_[static_cast<size_t>(c)])] += weights_(c) * columns_.col(c).tail<3>();
   }
 }
 

@@ -25,7 +25,7 @@
 
 #include "common/model.h"
 #include "common/robot_map.h"
-#include "stages/retarget/nonnegative_least_squares.h"
+#include "common/nonnegative_least_squares.h"
 
 namespace syn {
 
@@ -42,6 +42,8 @@ struct ContactForceFrame {
   Eigen::Matrix<double, 6, 1> residual;     // (moment about the centre of mass N·m, force N), ground frame
   Eigen::Matrix<double, 6, 1> unexplained;  // the part no admissible contact force explains
   std::vector<Eigen::Vector3d> foot_force;  // per robot-map foot, the sum of its sole points' forces (N)
+  // Per sole point, every foot's points in the robot map's order one foot after another (N, ground).
+  std::vector<Eigen::Vector3d> point_force;
 };
 
 class ContactForceSplit {
@@ -68,6 +70,8 @@ class ContactForceSplit {
   Eigen::Matrix<double, 6, 1> foot_twist_;
   NonnegativeLeastSquares::Rows columns_;  // one per edge per sole point in contact
   std::vector<int> column_foot_;
+  std::vector<int> column_point_;  // the column's sole point, numbered as ContactForceFrame::point_force
+  size_t point_count_ = 0;
   Eigen::VectorXd weights_;
   NonnegativeLeastSquares solver_;
 };
