@@ -43,18 +43,13 @@ int ContactConsistentTorques::apply(Workspace& workspace, const OperationalSpace
     for (int j : actuated_) base_rhs_[r] -= mass(i, j) * planned_udot_[j];
     for (Eigen::Index c = 0; c < base; ++c) base_block_(r, c) = mass(i, unactuated_[static_cast<size_t>(c)]);
   }
-  base_rhs_ = base_block_.ldlt().solve(base_rhs_);
+  base_solver_.compute(base_block_);
+  base_rhs_ = base_solver_.solve(base_rhs_);
   for (Eigen::Index r = 0; r < base; ++r) planned_udot_[unactuated_[static_cast<size_t>(r)]] = base_rhs_[r];
   tau.noalias() = mass * planned_udot_;
   tau += bias - sole_forces_;
   for (int i : unactuated_) tau[i] = 0.0;
-  int clipped = 0;
-  for (Eigen::Index i = 0; i < tau.size(); ++i) {
-    const double limit = effort_limit_[i];
-    if (tau[i] > limit) tau[i] = limit, ++clipped;
-    else if (tau[i] < -limit) tau[i] = -limit, ++clipped;
-  }
-  return clipped;
+  return ClipToEffort(effort_limit_, tau);
 }
 
 }  // namespace syn

@@ -19,6 +19,7 @@
 
 #include <vector>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include "common/contact_forces.h"
@@ -55,6 +56,7 @@ class ContactConsistentTorques {
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
   Eigen::VectorXd planned_udot_, sole_forces_;  // A⁻¹ (Γ − b − g) and Σ J_pᵀ f_p
   Eigen::MatrixXd base_block_;
+  Eigen::LDLT<Eigen::MatrixXd> base_solver_;
   Eigen::VectorXd base_rhs_;
 };
 

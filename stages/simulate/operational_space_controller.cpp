@@ -33,6 +33,15 @@ Eigen::Vector3d OrientationError(const Eigen::Quaterniond& target, const Eigen::
 
 }  // namespace
 
+int ClipToEffort(const Eigen::VectorXd& limit, Eigen::VectorXd& tau) {
+  int clipped = 0;
+  for (Eigen::Index i = 0; i < tau.size(); ++i) {
+    if (tau[i] > limit[i]) tau[i] = limit[i], ++clipped;
+    else if (tau[i] < -limit[i]) tau[i] = -limit[i], ++clipped;
+  }
+  return clipped;
+}
+
 OperationalSpaceController::OperationalSpaceController(const Model& model, std::vector<ControlledTask> tasks,
                                                        const ControllerOptions& options)
     : options_(options),
@@ -134,13 +143,8 @@ int OperationalSpaceController::calcTorques(Workspace& workspace, const std::vec
   }
   workspace.calcInverseDynamics(zero_, bias_forces_);  // b(q, u) + g(q)
   tau += bias_forces_;
-  int saturated = 0;
   unclipped_ = tau;
-  for (Eigen::Index i = 0; i < tau.size(); ++i) {
-    const double limit = effort_limit_[i];
-    if (tau[i] > limit) tau[i] = limit, ++saturated;
-    else if (tau[i] < -limit) tau[i] = -limit, ++saturated;
-  }
+  const int saturated = ClipToEffort(effort_limit_, tau);
   if (saturated > 0) redistributeClippedTorque(tau);
   return saturated;
 }

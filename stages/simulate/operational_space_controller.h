@@ -59,6 +59,9 @@ struct ControllerOptions {
   double limit_frequency = 100.0;
 };
 
+// Clamps each entry of tau to ±limit; returns how many it clamped.
+int ClipToEffort(const Eigen::VectorXd& limit, Eigen::VectorXd& tau);
+
 class OperationalSpaceController {
  public:
   OperationalSpaceController(const Model& model, std::vector<ControlledTask> tasks, const ControllerOptions& options);

@@ -226,10 +226,13 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   }
   double unexplained_force_sq = 0, unexplained_torque_sq = 0;
   for (int64_t t = 0; t < frames; ++t) {
-    const double next_dt = t + 1 < frames ? (input.time_s[static_cast<size_t>(t + 1)] - input.time_s[static_cast<size_t>(t)]) /
-                                                std::max<double>(1.0, std::ceil((input.time_s[static_cast<size_t>(t + 1)] - input.time_s[static_cast<size_t>(t)]) * options.rate - 1e-9))
-                                          : 1.0 / options.rate;
-    control(t, 0.0, next_dt);
+    // The interval to the next frame in equal steps of at most 1/rate (the last frame: one nominal step,
+    // used only by the ground's implicit contact terms at the recorded state).
+    const double interval = t + 1 < frames ? input.time_s[static_cast<size_t>(t + 1)] - input.time_s[static_cast<size_t>(t)]
+                                           : 1.0 / options.rate;
+    const int64_t steps = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(interval * options.rate - 1e-9)));
+    const double dt = interval / static_cast<double>(steps);
+    control(t, 0.0, dt);
     // Record the frame: the state, the acceleration and torques the controller commands there.
     std::copy(q.data(), q.data() + nq, out.q.begin() + t * nq);
     std::copy(u.data(), u.data() + nu, out.u.begin() + t * nu);
@@ -257,9 +260,6 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       joint_max = std::max(joint_max, std::abs(error));
     }
     if (t + 1 == frames) break;
-    const double interval = input.time_s[static_cast<size_t>(t + 1)] - input.time_s[static_cast<size_t>(t)];
-    const int64_t steps = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(interval * options.rate - 1e-9)));
-    const double dt = interval / static_cast<double>(steps);
     for (int64_t step = 0; step < steps; ++step) {
       if (step > 0) control(t, static_cast<double>(step) / static_cast<double>(steps), dt);
       integrator.step(workspace, options.integrator, tau, dt, &udot, q, u);

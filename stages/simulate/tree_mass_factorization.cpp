@@ -62,18 +62,6 @@ void TreeMassFactorization::solveInPlace(Eigen::VectorXd& x) const {
   }
 }
 
-void TreeMassFactorization::solveColumnsInPlace(Eigen::MatrixXd& x) const {
-  const int n = static_cast<int>(factor_.rows());
-  // The same substitutions on every column at once: each factor entry read once per sweep.
-  for (int k = n - 1; k >= 0; --k) {
-    for (int i = parent_[static_cast<size_t>(k)]; i >= 0; i = parent_[static_cast<size_t>(i)]) x.row(i) -= factor_(k, i) * x.row(k);
-  }
-  for (int k = 0; k < n; ++k) x.row(k) /= factor_(k, k);
-  for (int k = 0; k < n; ++k) {
-    for (int i = parent_[static_cast<size_t>(k)]; i >= 0; i = parent_[static_cast<size_t>(i)]) x.row(k) -= factor_(k, i) * x.row(i);
-  }
-}
-
 void TreeMassFactorization::solveRowsInPlace(Eigen::MatrixXd& x) const {
   const int n = static_cast<int>(factor_.rows());
   for (int k = n - 1; k >= 0; --k) {

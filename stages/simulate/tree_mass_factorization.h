@@ -23,9 +23,8 @@ class TreeMassFactorization {
 
   // Forms A at the workspace's configuration (setQ done) and factors it.
   void factor(Workspace& workspace);
-  // x ← A⁻¹ x, in place, for a vector or every column of a matrix (nu rows).
+  // x ← A⁻¹ x, in place (nu entries).
   void solveInPlace(Eigen::VectorXd& x) const;
-  void solveColumnsInPlace(Eigen::MatrixXd& x) const;
   // x ← x A⁻¹ (every row of x, nu columns: A is symmetric): for a stack of Jacobian rows, J A⁻¹.
   void solveRowsInPlace(Eigen::MatrixXd& x) const;
 

@@ -98,6 +98,14 @@ void ExpectStandingCarriesWeight(const Model& model, const RobotMap& map) {
   }
   EXPECT_NEAR(total.z(), weight, 1e-6 * weight);
   EXPECT_NEAR(total.head<2>().norm(), 0.0, 1e-6 * weight);
+  // Per sole point, feet one after another: each foot's points add up to the foot's force.
+  size_t point = 0;
+  for (size_t f = 0; f < map.feet.size(); ++f) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (size_t p = 0; p < map.feet[f].sole_points.size(); ++p) sum += frame.point_force[point++];
+    EXPECT_LT((sum - frame.foot_force[f]).norm(), 1e-9 * weight) << "foot " << f;
+  }
+  EXPECT_EQ(point, frame.point_force.size());
 }
 
 TEST_F(ContactForces, StandingStillTheSolesCarryTheWeight) { ExpectStandingCarriesWeight(G1(), G1Map()); }

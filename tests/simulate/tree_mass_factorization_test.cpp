@@ -44,8 +44,9 @@ void ExpectSolvesMatchSimbody(const Model& model, uint32_t seed) {
       workspace.calcMassTimes(solved, back);
       EXPECT_LT((back - b).norm(), 1e-9 * b.norm());
     }
-    mass.solveColumnsInPlace(right_sides);  // every column at once
-    EXPECT_LT((right_sides - reference).norm(), 1e-9 * reference.norm());
+    Eigen::MatrixXd rows = right_sides.transpose();
+    mass.solveRowsInPlace(rows);  // every row at once: bᵀ A⁻¹
+    EXPECT_LT((rows.transpose() - reference).norm(), 1e-9 * reference.norm());
   }
 }
 
