@@ -40,11 +40,12 @@ int main(int argc, char** argv) {
   app.add_option("--kp", options.controller.kp, "Task and posture stiffness, 1/s² (paper's code: 350)")
       ->capture_default_str();
   app.add_option("--kv", options.controller.kv, "Task and posture damping, 1/s (paper's code: 25)")->capture_default_str();
-  app.add_option("--singular-cutoff", options.controller.hierarchy.singular_cutoff,
-                 "Drop task-space directions whose J A^-1 J^T eigenvalue is below this fraction of the largest")
+  app.add_option("--independence-cutoff", options.controller.hierarchy.independence_cutoff,
+                 "Drop a level's task rows once the most independent left has less than this fraction of its "
+                 "mobility (unit-diagonal J A^-1 J^T pivot) not given by the rows kept before it")
       ->capture_default_str();
   app.add_option("--damping", options.controller.hierarchy.damping,
-                 "mu of the task forces' damped inverse lambda/(lambda^2+mu^2) on the unit-diagonal J A^-1 J^T "
+                 "mu of the task forces' damped inverse lambda/(lambda^2+mu^2) on the kept rows' unit-diagonal J A^-1 J^T "
                  "(bounds the force at a singular limb; 0: undamped)")
       ->capture_default_str();
   bool no_effort_limits = false;

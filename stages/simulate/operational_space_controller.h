@@ -35,19 +35,20 @@ namespace syn {
 struct ControllerOptions {
   double kp = 350.0;  // 1/s², the paper's controller code (task and posture gains)
   double kv = 25.0;   // 1/s, ditto
-  // A walking leg straightens every step, and its foot's motion along the leg becomes a near-singular
-  // direction of the foot task. Kept (cutoff 1e-6), the foot task alone has to bend the knee there,
+  // A walking leg straightens every step, and its foot's motion along the leg becomes a row nearly
+  // given by the foot's other rows. Kept (cutoff 1e-6), the foot task alone has to bend the knee there,
   // which it can do only to second order, so the knee stays locked or is carried onto the mirrored
-  // branch; dropped while it is under a fraction of the level's largest, the posture, which knows the
-  // reference knee angle, bends it. The same holds for an arm swung back near its reach, whose hand
-  // task at 1 % flipped the shoulder and wrist onto another solution (CMU 02_01's last 0.3 s, 7° RMS).
-  // 21 CMU walks on G1 without effort limits, joint-limit walls as above (ω = 100), joint RMS within 3°:
-  // 1e-2: 14 (13 on the motions retargeted before the feet's neutral reference), 3e-2: 16, 5e-2: 18,
-  // 1e-1: 21 of 21 (max 1.2°; 21 of 21 on the earlier motions too), and priority-1 RMS on 02_01
-  // 0.3 mm (0.7 at 1e-2). With the URDF's effort limits: 1e-2 8, 5e-2 12, 1e-1 16 of 21 (10_04 and
-  // 12_0x ask their 50 N·m waist for up to 300 N·m in their first frames).
-  // 1e-6 with kp/kv walls on every joint: 3 of 16 diverged and 4 more over 3°.
-  PrioritizedControlOptions hierarchy{.singular_cutoff = 1e-1};
+  // branch; dropped, the posture, which knows the reference knee angle, bends it. The same holds for an
+  // arm swung back near its reach. 32 CMU trials (21 walks, 11 dances) retargeted onto G1, no effort
+  // limits, walls as above (ω = 100), joint RMS within 3° of the kinematic motion
+  // (`syn-simulate --no-effort-limits --independence-cutoff c` on each motion syn-retarget makes):
+  //   c = 0.1: 20, 0.3: 29, 0.5, 0.6, 0.7, 0.8: 32 of 32. At 0.7 the walks are 0.09-0.48°, the dances
+  //   up to 1.10° (94_07), priority-1 RMS 0.26-9 mm. With the URDF's effort limits: 17 of 32 (the walks
+  //   15 of 21; 10_04 and 12_0x ask their 50 N·m waist for up to 300 N·m in their first frames).
+  // The truncated eigen-decomposition this replaced (directions under 10 % of the largest eigenvalue
+  // dropped) gave 31 of 32 (60_05 flipped an arm, 67°), walks up to 1.18°, with limits 16 of 32, at
+  // 7.2× real time against 12-13× now.
+  PrioritizedControlOptions hierarchy{.independence_cutoff = 0.7};
   // Clamp actuated torques to the URDF's joint effort (paper: the simulated robot's limits). Off is for
   // diagnosis: how much of a tracking error the limits cause.
   bool effort_limits = true;

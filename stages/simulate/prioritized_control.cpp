@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace syn {
 namespace {
@@ -12,34 +13,69 @@ constexpr double kDroppedRow = 1e-10;
 
 }  // namespace
 
-void PrioritizedControl::invertByEigenvectors(SolvedLevel& solved) const {
-  // Λ_k = D Φ'⁺ D with the directions under the cutoff dropped, and F_k with each kept eigenvalue's
-  // inverse damped to λ/(λ² + μ²).
-  const Eigen::Index rows = solved.operational.rows();
-  solved.eigen.compute(solved.operational);
-  const Eigen::VectorXd& eigenvalues = solved.eigen.eigenvalues();
-  const double largest = rows > 0 ? std::max(0.0, eigenvalues.maxCoeff()) : 0.0;
-  solved.inverse_eigenvalues.resize(rows);
-  solved.damped_inverse_eigenvalues.resize(rows);
-  solved.rank = 0;
-  const double damping_sq = options_.damping * options_.damping;
-  for (Eigen::Index i = 0; i < rows; ++i) {
-    const double eigenvalue = eigenvalues[i];
-    const bool kept = largest > 0 && eigenvalue > options_.singular_cutoff * largest;
-    solved.inverse_eigenvalues[i] = kept ? 1.0 / eigenvalue : 0.0;
-    solved.damped_inverse_eigenvalues[i] = kept ? eigenvalue / (eigenvalue * eigenvalue + damping_sq) : 0.0;
-    solved.rank += kept ? 1 : 0;
+void PrioritizedControl::invertKeptRows(SolvedLevel& solved) const {
+  // Pivoted Cholesky of Φ' in place: L in the lower triangle of the first `rank` columns, the Schur
+  // complement of the rows not yet taken (kept whole, so that symmetric swaps stay valid) below right.
+  solved.unfactored = solved.operational;
+  Eigen::MatrixXd& factor = solved.operational;
+  const int rows = static_cast<int>(factor.rows());
+  solved.kept_rows.resize(static_cast<size_t>(rows));
+  std::iota(solved.kept_rows.begin(), solved.kept_rows.end(), 0);
+  int rank = 0;
+  for (; rank < rows; ++rank) {
+    int next = rank;
+    for (int i = rank + 1; i < rows; ++i) {
+      if (factor(i, i) > factor(next, next)) next = i;
+    }
+    if (!(factor(next, next) >= options_.independence_cutoff)) break;
+    if (next != rank) {
+      factor.row(rank).swap(factor.row(next));
+      factor.col(rank).swap(factor.col(next));
+      std::swap(solved.kept_rows[static_cast<size_t>(rank)], solved.kept_rows[static_cast<size_t>(next)]);
+    }
+    const double pivot = std::sqrt(factor(rank, rank));
+    factor(rank, rank) = pivot;
+    const int rest = rows - rank - 1;
+    factor.col(rank).tail(rest) /= pivot;
+    factor.bottomRightCorner(rest, rest).noalias() -= factor.col(rank).tail(rest) * factor.col(rank).tail(rest).transpose();
   }
-  const Eigen::MatrixXd& vectors = solved.eigen.eigenvectors();
-  solved.scaled.resize(rows, rows);
-  solved.scaled.noalias() = solved.row_scale.asDiagonal() * vectors * solved.inverse_eigenvalues.asDiagonal();
-  solved.inertia.resize(rows, rows);
-  solved.inertia.noalias() = solved.scaled * (solved.row_scale.asDiagonal() * vectors).transpose();
-  // F = D V diag(damped) Vᵀ D r, by matrix-vector products.
-  solved.scaled_residual.noalias() = vectors.transpose() * solved.row_scale.cwiseProduct(solved.residual);
-  solved.term = solved.damped_inverse_eigenvalues.cwiseProduct(solved.scaled_residual);
-  solved.force.noalias() = vectors * solved.term;
-  solved.force = solved.row_scale.cwiseProduct(solved.force);
+  solved.rank = rank;
+  const auto lower = factor.topLeftCorner(rank, rank).triangularView<Eigen::Lower>();
+  solved.kept_inverse.setIdentity(rank, rank);
+  lower.solveInPlace(solved.kept_inverse);              // L⁻¹
+  lower.transpose().solveInPlace(solved.kept_inverse);  // L⁻ᵀ L⁻¹ = Φ'_KK⁻¹
+  // Λ = D Φ'⁻ D, scattered back from pivot order.
+  solved.inertia.setZero(rows, rows);
+  solved.kept_residual.resize(rank);
+  for (int a = 0; a < rank; ++a) {
+    const int row_a = solved.kept_rows[static_cast<size_t>(a)];
+    solved.kept_residual[a] = solved.row_scale[row_a] * solved.residual[row_a];
+    for (int b = 0; b < rank; ++b) {
+      const int row_b = solved.kept_rows[static_cast<size_t>(b)];
+      solved.inertia(row_a, row_b) = solved.row_scale[row_a] * solved.kept_inverse(a, b) * solved.row_scale[row_b];
+    }
+  }
+  // F = D Φ'_KK (Φ'_KK² + μ²)⁻¹ D r = D (Φ'_KK + μ² Φ'_KK⁻¹)⁻¹ D r: one more small Cholesky.
+  solved.kept_force.resize(rank);
+  if (options_.damping > 0) {
+    solved.damped.resize(rank, rank);
+    for (int b = 0; b < rank; ++b) {
+      for (int a = 0; a < rank; ++a) {
+        solved.damped(a, b) = solved.unfactored(solved.kept_rows[static_cast<size_t>(a)], solved.kept_rows[static_cast<size_t>(b)]) +
+                              options_.damping * options_.damping * solved.kept_inverse(a, b);
+      }
+    }
+    solved.damped_factor.compute(solved.damped);
+    solved.kept_force = solved.kept_residual;
+    solved.damped_factor.solveInPlace(solved.kept_force);
+  } else {
+    solved.kept_force.noalias() = solved.kept_inverse * solved.kept_residual;
+  }
+  solved.force.setZero(rows);
+  for (int a = 0; a < rank; ++a) {
+    const int row_a = solved.kept_rows[static_cast<size_t>(a)];
+    solved.force[row_a] = solved.row_scale[row_a] * solved.kept_force[a];
+  }
 }
 
 void PrioritizedControl::calcTorques(Workspace& workspace, const TreeMassFactorization& mass,
@@ -77,14 +113,18 @@ void PrioritizedControl::calcTorques(Workspace& workspace, const TreeMassFactori
     // J_k| A⁻¹ (the transpose of A⁻¹ J_k|ᵀ), by substitution with the factor, every row at once.
     solved.j_minv = solved.projected;
     mass.solveRowsInPlace(solved.j_minv);
-    // Λ_k = (J_k| A⁻¹ J_k|ᵀ)⁺. Its rows mix units (1/kg for positions, 1/(kg m²) for a light hand's
-    // rotation: eigenvalues from 0.3 to 10⁵ on G1), so decompose the unit-diagonal Φ' = D Φ D with
-    // D = diag(Φ)^(-1/2), whose eigenvalues lie in [0, m_k] whatever the units, and Λ = D Φ'⁺ D (the
-    // exact inverse when Φ is regular; a symmetric reflexive generalized inverse otherwise, which is
+    // Λ_k = (J_k| A⁻¹ J_k|ᵀ)⁻. Its rows mix units (1/kg for positions, 1/(kg m²) for a light hand's
+    // rotation: diagonal entries from 0.3 to 10⁵ on G1), so factor the unit-diagonal Φ' = D Φ D with
+    // D = diag(Φ)^(-1/2), whose pivots are fractions whatever the units, and Λ = D Φ'⁻ D (the exact
+    // inverse when every row is kept; a symmetric reflexive generalized inverse otherwise, which is
     // what keeps the projectors exact). Rows the levels above leave no authority over (Φ_ii ≈ 0) drop.
     solved.operational.resize(rows, rows);
     solved.operational.noalias() = solved.projected * solved.j_minv.transpose();
-    solved.operational = 0.5 * (solved.operational + solved.operational.transpose()).eval();
+    for (Eigen::Index c = 0; c < rows; ++c) {
+      for (Eigen::Index r = c + 1; r < rows; ++r) {
+        solved.operational(r, c) = solved.operational(c, r) = 0.5 * (solved.operational(r, c) + solved.operational(c, r));
+      }
+    }
     solved.row_scale.resize(rows);
     const double largest_diagonal = rows > 0 ? std::max(0.0, solved.operational.diagonal().maxCoeff()) : 0.0;
     for (Eigen::Index i = 0; i < rows; ++i) {
@@ -96,7 +136,7 @@ void PrioritizedControl::calcTorques(Workspace& workspace, const TreeMassFactori
     solved.residual = level.acceleration;
     solved.residual.noalias() -= level.jacobian * udot_tasks_;
     solved.force.resize(rows);
-    invertByEigenvectors(solved);
+    invertKeptRows(solved);
     udot_tasks_.noalias() += solved.j_minv.transpose() * solved.force;
     torques.noalias() += solved.projected.transpose() * solved.force;
   }

@@ -65,8 +65,8 @@ bool SimulateOptions::IsValid(std::string* error) const {
   if (!(rate >= 10.0 && rate <= 1e5)) return fail("--rate must be in [10, 100000] Hz, got " + std::to_string(rate));
   if (!(controller.kp > 0) || !std::isfinite(controller.kp)) return fail("--kp must be > 0, got " + std::to_string(controller.kp));
   if (!(controller.kv >= 0) || !std::isfinite(controller.kv)) return fail("--kv must be >= 0, got " + std::to_string(controller.kv));
-  const double cutoff = controller.hierarchy.singular_cutoff;
-  if (!(cutoff > 0 && cutoff < 1)) return fail("--singular-cutoff must be in (0, 1), got " + std::to_string(cutoff));
+  const double cutoff = controller.hierarchy.independence_cutoff;
+  if (!(cutoff > 0 && cutoff < 1)) return fail("--independence-cutoff must be in (0, 1), got " + std::to_string(cutoff));
   if (!(controller.limit_frequency > 0 && controller.limit_frequency <= 1e4)) {
     return fail("--limit-frequency must be in (0, 10000] rad/s, got " + std::to_string(controller.limit_frequency));
   }
@@ -82,7 +82,7 @@ nlohmann::json SimulateOptions::ToJson() const {
   return {{"rate", rate},
           {"kp", controller.kp},
           {"kv", controller.kv},
-          {"singular_cutoff", controller.hierarchy.singular_cutoff},
+          {"independence_cutoff", controller.hierarchy.independence_cutoff},
           {"damping", controller.hierarchy.damping},
           {"no_effort_limits", !controller.effort_limits},
           {"no_joint_limits", !controller.joint_limits},

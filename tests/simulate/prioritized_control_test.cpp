@@ -153,5 +153,41 @@ TEST(PrioritizedControl, ConflictingPriority2LeavesPriority1Unchanged) {
   EXPECT_LE(stacked.keptRank(1), n - 6);
 }
 
+// A level with a nearly dependent row (the tip's x position a second time, 1 mm along the link: its
+// mobility is almost all given by the first) keeps no more rows than without it at a cutoff of 0.5,
+// and the level below still cannot change what the kept rows get.
+TEST(PrioritizedControl, DroppedRowsLeaveTheKeptRowsStrictlyAbove) {
+  SmallRobot robot(23);
+  const int n = robot.model.nu();
+  const Eigen::VectorXd posture = Eigen::VectorXd::Constant(n, -0.3);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> offset_point;
+  robot.workspace.calcFrameJacobian(robot.model.findLinkIndex("a4"), Eigen::Vector3d(0.001, 0, 0), offset_point);
+  std::vector<PriorityLevel> levels = Levels(robot, true);
+  PriorityLevel& top = levels[0];
+  top.jacobian.conservativeResize(7, n);
+  top.jacobian.row(6) = offset_point.row(3);
+  top.acceleration.conservativeResize(7);
+  top.acceleration[6] = top.acceleration[3] + 0.5;  // a conflict the dropped row loses
+  PrioritizedControlOptions options;
+  options.independence_cutoff = 0.5;
+  PrioritizedControl alone(options), stacked(options);
+  Eigen::VectorXd torques_alone, torques_stacked, udot_alone, udot_stacked;
+  alone.calcTorques(robot.workspace, robot.mass, {top}, posture, torques_alone);
+  stacked.calcTorques(robot.workspace, robot.mass, levels, posture, torques_stacked);
+  PrioritizedControl without_twin(options);
+  Eigen::VectorXd torques_without_twin;
+  without_twin.calcTorques(robot.workspace, robot.mass, Levels(robot, false), posture, torques_without_twin);
+  EXPECT_EQ(stacked.keptRank(0), without_twin.keptRank(0));
+  ASSERT_GE(stacked.keptRank(0), 4);
+  robot.workspace.calcMassInverseTimes(torques_alone, udot_alone);
+  robot.workspace.calcMassInverseTimes(torques_stacked, udot_stacked);
+  const Eigen::VectorXd change = top.jacobian * (udot_stacked - udot_alone);
+  int unchanged = 0;
+  for (int r = 0; r < 7; ++r) unchanged += std::abs(change[r]) < 1e-9 ? 1 : 0;
+  EXPECT_GE(unchanged, stacked.keptRank(0)) << change.transpose();
+  EXPECT_LT(unchanged, 7) << "a dropped row passes to the level below";
+  EXPECT_GT((udot_stacked - udot_alone).norm(), 0.1);  // level 2 does act
+}
+
 }  // namespace
 }  // namespace syn

@@ -12,6 +12,7 @@
 #include "stages/simulate/simulation.h"
 #include "tests/support/demo_motion.h"
 #include "tests/support/shared_data.h"
+#include "tests/support/synthetic_motions.h"
 
 namespace syn {
 namespace {
@@ -121,48 +122,12 @@ TEST(Simulate, SameInputsGiveIdenticalOutputs) {
 namespace syn {
 namespace {
 
-// A G1 standing still: the URDF's zero pose with knees and hips a little bent, the pelvis at the height
-// that puts the robot map's soles on z = 0 (found by FK here), held for `seconds` at 120 Hz.
-MotionData StandingMotion(const Model& model, const RobotMap& map, double seconds) {
-  Eigen::VectorXd q = model.defaultQ();
-  for (const ModelJoint& joint : model.joints()) {
-    if (joint.name.find("knee") != std::string::npos) q[joint.q_index] = 0.3;
-    if (joint.name.find("hip_pitch") != std::string::npos) q[joint.q_index] = -0.15;
-    if (joint.name.find("ankle_pitch") != std::string::npos) q[joint.q_index] = -0.15;
-  }
-  q[6] = 1.0;
-  Workspace workspace(model);
-  workspace.setQ(q);
-  double lowest = 1e9;
-  for (const RobotFoot& foot : map.feet) {
-    const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
-    for (const auto& p : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(p[0], p[1], p[2])).z());
-  }
-  q[6] -= lowest;
-  MotionData motion;
-  motion.coordinate_names = model.coordinateNames();
-  motion.velocity_names = model.velocityNames();
-  motion.model_name = model.name();
-  motion.model_sha256 = model.sourceSha256();
-  for (const RobotFoot& foot : map.feet) motion.contact_feet.push_back(foot.side);
-  const int frames = static_cast<int>(seconds * 120.0) + 1;
-  for (int t = 0; t < frames; ++t) {
-    motion.time_s.push_back(t / 120.0);
-    motion.q.insert(motion.q.end(), q.data(), q.data() + q.size());
-    motion.u.insert(motion.u.end(), static_cast<size_t>(model.nu()), 0.0);
-    motion.udot.insert(motion.udot.end(), static_cast<size_t>(model.nu()), 0.0);
-    motion.tau.insert(motion.tau.end(), static_cast<size_t>(model.nu()), 0.0);
-    motion.contact.insert(motion.contact.end(), map.feet.size(), 1);
-  }
-  return motion;
-}
-
 // Ground mode on a robot asked to stand: it stays up, its soles stay within 1 cm of the floor, and the
 // ground carries its weight (the feet's vertical forces sum to m g within 5 % once settled).
 TEST(Simulate, GroundModeStandingRobotStaysUpOnItsSoles) {
   const Model model = Model::Load(SourcePath(testing::kG1Urdf));
   const RobotMap map = LoadRobotMap(SourcePath("manifests/robots/g1.toml"));
-  const MotionData motion = StandingMotion(model, map, 1.0);
+  const MotionData motion = testing::StandingMotion(model, map, 1.0);
   SimulateOptions options;
   options.contact = ContactMode::kGround;
   const SimulationResult result = Simulate(motion, "standing", model, map, options);
@@ -181,7 +146,7 @@ TEST(Simulate, GroundModeStandingRobotStaysUpOnItsSoles) {
 TEST(Simulate, GroundModeReportsAFall) {
   const Model model = Model::Load(SourcePath(testing::kG1Urdf));
   const RobotMap map = LoadRobotMap(SourcePath("manifests/robots/g1.toml"));
-  MotionData motion = StandingMotion(model, map, 0.2);
+  MotionData motion = testing::StandingMotion(model, map, 0.2);
   motion.q[6] *= 0.5;  // the first frame, where the simulation starts: half the reference's height
   SimulateOptions options;
   options.contact = ContactMode::kGround;
