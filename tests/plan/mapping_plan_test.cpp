@@ -67,6 +67,25 @@ TEST_F(MappingPlan, OscRunsSimulateBetweenRetargetAndSegment) {
   EXPECT_EQ(text.find("--mapping"), std::string::npos) << text;
 }
 
+// The contact mode is a syn-simulate parameter like the gains: on its command line and in its stamp, so
+// switching a manifest to the ground re-runs the simulations (and only them and what follows).
+TEST_F(MappingPlan, GroundContactReachesTheSimulationAndItsStamp) {
+  ASSERT_EQ(plan("[retarget]\nmapping = \"osc\"\n[simulate]\ncontact = \"ground\"\n").exit_code, 0);
+  const std::string text = rules();
+  EXPECT_NE(text.find("syn-simulate outputs/tiny/trials/walk/kinematic_motion.h5 -o $@"), std::string::npos) << text;
+  EXPECT_NE(text.find("--contact ground"), std::string::npos) << text;
+  std::ifstream stamp(dir_ + "/outputs/tiny/params/walk.simulate.json");
+  std::ostringstream stamp_text;
+  stamp_text << stamp.rdbuf();
+  EXPECT_NE(stamp_text.str().find("\"contact\":\"ground\""), std::string::npos) << stamp_text.str();
+  const std::string retarget_stamp = dir_ + "/outputs/tiny/params/walk.retarget.json";
+  ASSERT_TRUE(fs::exists(retarget_stamp));
+  const auto retarget_written = fs::last_write_time(retarget_stamp);
+  ASSERT_EQ(plan("[retarget]\nmapping = \"osc\"\n").exit_code, 0);
+  EXPECT_EQ(rules().find("--contact ground"), std::string::npos);
+  EXPECT_EQ(fs::last_write_time(retarget_stamp), retarget_written) << "the retarget stamp did not change";
+}
+
 TEST_F(MappingPlan, UnknownMappingIsAnErrorAtItsLine) {
   const CommandResult result = plan("[retarget]\nmapping = \"dynamic\"\n");
   EXPECT_EQ(result.exit_code, 1);
