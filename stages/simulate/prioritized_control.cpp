@@ -135,7 +135,6 @@ void PrioritizedControl::calcTorques(Workspace& workspace, const TreeMassFactori
     // F_k = Λ̃_k (ẍ*_k − J̇_k u − J_k A⁻¹ Γ_{<k}).
     solved.residual = level.acceleration;
     solved.residual.noalias() -= level.jacobian * udot_tasks_;
-    solved.force.resize(rows);
     invertKeptRows(solved);
     udot_tasks_.noalias() += solved.j_minv.transpose() * solved.force;
     torques.noalias() += solved.projected.transpose() * solved.force;

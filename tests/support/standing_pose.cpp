@@ -6,22 +6,9 @@
 #include <gtest/gtest.h>
 
 #include "common/model.h"
+#include "tests/support/synthetic_motions.h"
 
 namespace syn::testing {
-
-namespace {
-
-double LowestSolePoint(const Model& model, const RobotMap& map, Workspace& workspace, const Eigen::VectorXd& q) {
-  workspace.setQ(q);
-  double lowest = 1e9;
-  for (const RobotFoot& foot : map.feet) {
-    const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
-    for (const auto& p : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(p[0], p[1], p[2])).z());
-  }
-  return lowest;
-}
-
-}  // namespace
 
 Eigen::VectorXd StandingZeroPose(const Model& model, const RobotMap& map) {
   Workspace workspace(model);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace syn::testing {
@@ -31,6 +32,16 @@ bool NameHas(const ModelJoint& joint, const char* part) { return joint.name.find
 
 }  // namespace
 
+double LowestSolePoint(const Model& model, const RobotMap& map, Workspace& workspace, const Eigen::VectorXd& q) {
+  workspace.setQ(q);
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const RobotFoot& foot : map.feet) {
+    const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
+    for (const auto& p : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(p[0], p[1], p[2])).z());
+  }
+  return lowest;
+}
+
 MotionData SwayingMotion(const Model& model, double seconds) {
   MotionData motion = EmptyMotion(model);
   const int frames = static_cast<int>(seconds * kFrameRate) + 1;
@@ -57,13 +68,7 @@ MotionData StandingMotion(const Model& model, const RobotMap& map, double second
   }
   stance[6] = 1.0;
   Workspace workspace(model);
-  workspace.setQ(stance);
-  double lowest = 1e9;
-  for (const RobotFoot& foot : map.feet) {
-    const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
-    for (const auto& p : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(p[0], p[1], p[2])).z());
-  }
-  stance[6] -= lowest;
+  stance[6] -= LowestSolePoint(model, map, workspace, stance);
   MotionData motion = EmptyMotion(model);
   for (const RobotFoot& foot : map.feet) motion.contact_feet.push_back(foot.side);
   const double w = 2.0 * M_PI * 0.5;  // rad/s

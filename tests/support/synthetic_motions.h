@@ -8,6 +8,9 @@
 
 namespace syn::testing {
 
+// The height of the lowest of the map's sole points at q (m; negative below the floor).
+double LowestSolePoint(const Model& model, const RobotMap& map, Workspace& workspace, const Eigen::VectorXd& q);
+
 // Every joint a sinusoid of 0.2 rad (2 to 5 rad/s), the pelvis held 0.75 m up: a motion the paper's
 // driven base tracks anywhere, sampled at 120 Hz.
 MotionData SwayingMotion(const Model& model, double seconds);
