@@ -48,7 +48,7 @@ bool ContactForceOptions::IsValid(std::string* error) const {
 
 ContactForceSplit::ContactForceSplit(const Model& model, const std::vector<RobotFoot>& feet,
                                      const ContactForceOptions& options)
-    : feet_(feet), options_(options), solver_(MaxColumns(feet)) {
+    : feet_(feet), options_(options), nonnegative_fit_(MaxColumns(feet)), least_norm_(MaxColumns(feet)) {
   for (const RobotFoot& foot : feet_) point_count_ += foot.sole_points.size();
   base_link_ = FindBaseLink(model, unactuated_);
   if (base_link_ < 0) return;
@@ -118,7 +118,10 @@ void ContactForceSplit::split(Workspace& workspace, const Eigen::VectorXd& u, co
       }
     }
   }
-  solver_.solve(columns_.leftCols(n), out.residual, weights_.head(n));
+  // The fit decides what the soles explain (unique: the projection onto their cone); among the splits
+  // that explain it, the least-norm one, so that each foot's share is unique and continuous in time.
+  nonnegative_fit_.solve(columns_.leftCols(n), out.residual, weights_.head(n));
+  least_norm_.solve(columns_.leftCols(n), weights_.head(n));
   out.unexplained = out.residual - columns_.leftCols(n) * weights_.head(n);
   for (int c = 0; c < n; ++c) {
     out.foot_force[static_cast<size_t>(column_foot_[static_cast<size_t>(c)])] += weights_(c) * columns_.col(c).tail<3>();

@@ -12,7 +12,10 @@
 // inside its sole. The split is the non-negative least-squares fit of those forces to the residual
 // wrench, both about the whole-body centre of mass in the ground frame (moments in N·m weighed against
 // forces in N one to one, i.e. at 1 m); what the fit leaves is the unexplained residual, the number
-// AddBiomechanics reports (2.5–5.7 N on its real-data fits).
+// AddBiomechanics reports (2.5–5.7 N on its real-data fits). The fitted wrench is unique, its split
+// over the points is not (two planted feet: a six-dimensional family of internal forces); of those
+// splits the least-norm one (LeastNormConeCombination), unique and continuous in time, so a foot's
+// share does not jump between frames.
 //
 // The residual wrench W is read from the unactuated generalized forces τ_b, whatever the base's
 // parametrisation: with only the base's velocities moving, the whole robot moves rigidly with its first
@@ -25,6 +28,7 @@
 
 #include "common/model.h"
 #include "common/robot_map.h"
+#include "common/least_norm_cone_combination.h"
 #include "common/nonnegative_least_squares.h"
 
 namespace syn {
@@ -73,7 +77,8 @@ class ContactForceSplit {
   std::vector<int> column_point_;  // the column's sole point, numbered as ContactForceFrame::point_force
   size_t point_count_ = 0;
   Eigen::VectorXd weights_;
-  NonnegativeLeastSquares solver_;
+  NonnegativeLeastSquares nonnegative_fit_;
+  LeastNormConeCombination least_norm_;
 };
 
 }  // namespace syn

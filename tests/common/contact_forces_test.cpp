@@ -6,10 +6,14 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
+
+#include <Eigen/QR>
 
 #include "common/model.h"
 #include "common/robot_map.h"
 #include "common/contact_forces.h"
+#include "common/least_norm_cone_combination.h"
 #include "common/nonnegative_least_squares.h"
 #include "tests/support/demo_motion.h"
 #include "tests/support/shared_data.h"
@@ -106,6 +110,92 @@ void ExpectStandingCarriesWeight(const Model& model, const RobotMap& map) {
     EXPECT_LT((sum - frame.foot_force[f]).norm(), 1e-9 * weight) << "foot " << f;
   }
   EXPECT_EQ(point, frame.point_force.size());
+}
+
+// min ‖x‖ subject to A x = w, x ≥ 0 by enumeration: at the optimum the positive entries S are the
+// least-norm solution of A_S y = w (the optimality conditions give x_S = A_Sᵀ μ), so the best feasible
+// one over every subset of columns is it. Exact and independent of the active-set method; 2ⁿ solves.
+Eigen::VectorXd LeastNormByEnumeration(const NonnegativeLeastSquares::Rows& a, const Wrench& w) {
+  const int n = static_cast<int>(a.cols());
+  Eigen::VectorXd best;
+  for (int subset = 1; subset < (1 << n); ++subset) {
+    std::vector<int> columns;
+    for (int c = 0; c < n; ++c) {
+      if (subset & (1 << c)) columns.push_back(c);
+    }
+    Eigen::MatrixXd sub(6, static_cast<Eigen::Index>(columns.size()));
+    for (size_t k = 0; k < columns.size(); ++k) sub.col(static_cast<Eigen::Index>(k)) = a.col(columns[k]);
+    const Eigen::VectorXd y = sub.completeOrthogonalDecomposition().solve(w);
+    if (y.minCoeff() < 0 || (sub * y - w).norm() > 1e-9 * w.norm()) continue;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+    for (size_t k = 0; k < columns.size(); ++k) x(columns[k]) = y(static_cast<Eigen::Index>(k));
+    if (best.size() == 0 || x.norm() < best.norm()) best = x;
+  }
+  return best;
+}
+
+// Random cones of sole-like columns and wrenches inside them, many on the cone's boundary (half the
+// mixing weights zero): the split reproduces the wrench, stays non-negative, and is the least-norm one.
+TEST(LeastNormConeCombination, MatchesEnumerationOfEverySupport) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  LeastNormConeCombination solver(64);
+  int most_iterations = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = trial < 30 ? 8 + 2 * (trial % 3) : 64;  // the last ten as many columns as G1's two feet have
+    NonnegativeLeastSquares::Rows a(6, n);
+    for (int c = 0; c < n; ++c) {
+      const Eigen::Vector3d arm(uniform(random), uniform(random), -0.7);
+      const Eigen::Vector3d edge(0.8 * uniform(random), 0.8 * uniform(random), 1.0);
+      a.col(c) << arm.cross(edge), edge;
+    }
+    Eigen::VectorXd mix(n);
+    for (int c = 0; c < n; ++c) mix(c) = std::max(0.0, uniform(random)) * 100;
+    const Wrench w = a * mix;
+    Eigen::VectorXd x = mix;
+    const int iterations = solver.solve(a, x);
+    most_iterations = std::max(most_iterations, iterations);
+    EXPECT_GE(x.minCoeff(), 0.0);
+    EXPECT_LT((a * x - w).norm(), 1e-10 * w.norm()) << "trial " << trial;
+    EXPECT_LE(x.norm(), mix.norm() * (1 + 1e-12)) << "trial " << trial;
+    if (n <= 12) {
+      const Eigen::VectorXd reference = LeastNormByEnumeration(a, w);
+      ASSERT_EQ(reference.size(), n);
+      EXPECT_LT((x - reference).norm(), 1e-8 * reference.norm()) << "trial " << trial;
+    }
+  }
+  std::cout << "least-norm split: at most " << most_iterations << " active-set iterations\n";
+}
+
+// Two planted G1 feet: the split of a wrench moves continuously with it. (The non-negative fit alone
+// lands on a vertex of the many splits two feet allow, and the share each foot carries jumped by half
+// the weight between neighbouring wrenches: the joint torques syn-simulate computes from it with it.)
+TEST_F(ContactForces, TwoFeetShareTheLoadContinuously) {
+  const Model model = G1();
+  const RobotMap map = G1Map();
+  Workspace workspace(model);
+  const Eigen::VectorXd still = Eigen::VectorXd::Zero(model.nu());
+  Eigen::VectorXd tau(model.nu());
+  workspace.setQ(testing::StandingZeroPose(model, map));
+  workspace.setU(still);
+  workspace.calcInverseDynamics(still, tau);
+  ContactForceSplit split(model, map.feet, {});
+  const std::vector<int64_t> planted(map.feet.size(), 1);
+  const double weight = model.totalMass() * model.gravity();
+  ContactForceFrame frame;
+  double previous_left = -1, largest_jump = 0;
+  // A base pitch moment swept in small steps, well inside what the soles explain.
+  for (int step = 0; step <= 200; ++step) {
+    Eigen::VectorXd swept = tau;
+    swept(1) += (step - 100) * 0.05;  // N·m about the base's y axis
+    split.split(workspace, still, swept, planted.data(), frame);
+    ASSERT_LT(frame.unexplained.norm(), 1e-6 * weight) << "step " << step;
+    const double left = frame.foot_force[0].z();
+    if (previous_left >= 0) largest_jump = std::max(largest_jump, std::abs(left - previous_left));
+    previous_left = left;
+    EXPECT_NEAR(left, frame.foot_force[1].z(), 0.05 * weight) << "a symmetric stance shares the load";
+  }
+  EXPECT_LT(largest_jump, 0.01 * weight);
 }
 
 TEST_F(ContactForces, StandingStillTheSolesCarryTheWeight) { ExpectStandingCarriesWeight(G1(), G1Map()); }

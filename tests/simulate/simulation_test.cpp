@@ -142,6 +142,26 @@ TEST(Simulate, GroundModeStandingRobotStaysUpOnItsSoles) {
             << " N (weight " << model.totalMass() * 9.81 << " N)\n";
 }
 
+// The same stance with the elbows bent and the arms barely moving. When two planted feet shared the
+// planned load by whichever vertex the non-negative fit landed on, the joint torques jumped with it
+// between steps (hip torques ±45 N·m), a toe slammed into the floor and the vertical force peaked at
+// 27 kN, 11.6 mm deep. The least-norm split keeps the forces near the weight.
+TEST(Simulate, GroundModeForcesStayNearTheWeightWhileTheArmsMove) {
+  const Model model = Model::Load(SourcePath(testing::kG1Urdf));
+  const RobotMap map = LoadRobotMap(SourcePath("manifests/robots/g1.toml"));
+  const MotionData motion = testing::StandingMotion(model, map, 1.0, 0.001);
+  SimulateOptions options;
+  options.contact = ContactMode::kGround;
+  const SimulationResult result = Simulate(motion, "standing, arms bent", model, map, options);
+  const double weight = model.totalMass() * 9.81;
+  EXPECT_LT(result.summary.peak_vertical_force_n, 1.5 * weight);
+  EXPECT_LT(result.summary.deepest_penetration_mm, 3.0);
+  EXPECT_LT(result.summary.joint_rms_deg, 1.0);
+  std::cout << "standing, arms bent: peak vertical force " << result.summary.peak_vertical_force_n << " N (weight "
+            << weight << " N), deepest sole " << result.summary.deepest_penetration_mm << " mm, joint RMS "
+            << result.summary.joint_rms_deg << " deg\n";
+}
+
 // A robot that starts far below its reference (pelvis under 60 % of it) has fallen: the stage stops.
 TEST(Simulate, GroundModeReportsAFall) {
   const Model model = Model::Load(SourcePath(testing::kG1Urdf));
@@ -160,3 +180,4 @@ TEST(Simulate, GroundModeReportsAFall) {
 
 }  // namespace
 }  // namespace syn
+
