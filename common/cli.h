@@ -52,9 +52,19 @@ inline void PrintNotes(const std::string& tool, const std::vector<std::string>& 
   for (const std::string& note : notes) std::cerr << tool << ": " << Printable(note) << "\n";
 }
 
+// Throws UsageError with the options' own complaint. Called from a stage's `parameters` (below) as well
+// as its body, so `--print-parameters` refuses exactly the values a run would, and syn-plan can check a
+// manifest's values before make runs anything.
+template <typename Options>
+void RequireValid(const Options& options) {
+  std::string problem;
+  if (!options.IsValid(&problem)) throw UsageError(problem);
+}
+
 // `parameters` (optional) returns the canonical parameters of a run: what goes into the output's
 // `parameters` attribute. With it the tool has `--print-parameters`: parse the other flags (inputs and
-// -o not needed), check them, print that JSON on stdout and exit. syn-plan learns every stage's
+// -o not needed), check them (a `parameters` that throws UsageError refuses them: exit 2), print that
+// JSON on stdout and exit. syn-plan learns every stage's
 // parameter names and defaults this way, without linking stage code.
 inline int RunTool(CLI::App& app, int argc, char** argv, const std::function<nlohmann::json()>& parameters,
                    const std::function<void()>& body) {

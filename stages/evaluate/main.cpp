@@ -48,10 +48,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--penetration", options.sliding.penetration, "A foot deeper than this below z = 0 counts too, m")
       ->capture_default_str();
-  const auto parameters = [&] { return syn::WithFloatingBase(options.ToJson(), floating_base); };
+  const auto parameters = [&] {
+    syn::RequireValid(options);
+    return syn::WithFloatingBase(options.ToJson(), floating_base);
+  };
   return syn::RunTool(app, argc, argv, parameters, [&] {
-    std::string problem;
-    if (!options.IsValid(&problem)) throw syn::UsageError(problem);
+    syn::RequireValid(options);
     const syn::Model model = syn::LoadModel(model_path, floating_base);
     syn::PrintWarnings("syn-evaluate", model.warnings());
     syn::PrintNotes("syn-evaluate", model.notes(), common.verbose);

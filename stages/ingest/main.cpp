@@ -38,9 +38,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--drop-first-frame", options.drop_first_frame,
                "Drop BVH frame 0 (the T-pose frame CMU BVH converters add)");
-  return syn::RunTool(app, argc, argv, [&] { return options.ToJson(); }, [&] {
-    std::string problem;
-    if (!options.IsValid(&problem)) throw syn::UsageError(problem);
+  return syn::RunTool(app, argc, argv, [&] {
+        syn::RequireValid(options);
+        return options.ToJson();
+      }, [&] {
+    syn::RequireValid(options);
     if (common.verbose) std::cerr << "syn-ingest parameters: " << syn::CanonicalJson(options.ToJson()) << "\n";
 
     syn::IngestSummary summary;

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   return syn::RunTool(app, argc, argv, [&] {
     if (dataset_root.empty() && std::getenv("DATASET_ROOT")) dataset_root = std::getenv("DATASET_ROOT");
     const syn::Manifest manifest = syn::LoadManifest(manifest_path, dataset_root, syn::QueryStageParameters(stage_bin));
+    syn::CheckParameterValues(manifest, stage_bin);
     // A capture without a licence can still be run; the release datasheet then says "unknown".
     for (const std::string& warning : manifest.release.licenceWarnings()) std::cerr << "syn-plan: warning: " << warning << "\n";
     const syn::Plan plan = syn::MakePlan(manifest, outputs_root);

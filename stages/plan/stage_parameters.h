@@ -16,6 +16,12 @@ namespace syn {
 // Throws DataError naming the tool when one is missing or prints no JSON object.
 [[nodiscard]] std::vector<StageParameterNames> QueryStageParameters(const std::string& bin_dir);
 
+// Every per-trial stage's values, checked by the stage itself: `syn-<stage> --print-parameters FLAGS`
+// with the flags the manifest gives it (once per distinct set). A refusal is a DataError at the first
+// trial's manifest line, with the stage's own message, before make runs anything (`contact = "floor"`
+// used to plan fine and fail at make time, trial by trial).
+void CheckParameterValues(const Manifest& manifest, const std::string& bin_dir);
+
 // The folder holding the running executable (where the other syn-* tools are built).
 [[nodiscard]] std::string OwnExecutableFolder();
 

@@ -124,9 +124,12 @@ int main(int argc, char** argv) {
   app.add_option("--max-bridge", options.max_bridge,
                  "Longest stretch (s) with no landmark at all that is bridged by interpolation; longer ones fail")
       ->capture_default_str();
-  return syn::RunTool(app, argc, argv, [&] { return options.ToJson(); }, [&] {
-    std::string problem;
-    if (!options.IsValid(&problem)) throw syn::UsageError(problem);
+  return syn::RunTool(app, argc, argv, [&] {
+        std::string problem;
+        if (!options.HasValidValues(&problem)) throw syn::UsageError(problem);
+        return options.ToJson();
+      }, [&] {
+    syn::RequireValid(options);
     if (common.verbose) std::cerr << "syn-retarget parameters: " << syn::CanonicalJson(options.ToJson()) << "\n";
     syn::RetargetSummary summary;
     const syn::RetargetInputs inputs = syn::LoadRetargetInputs(input, options);

@@ -619,6 +619,14 @@ bool RetargetOptions::IsValid(std::string* error) const {
   if (model.empty()) return fail("--model is required (a URDF file)");
   if (robot_map.empty()) return fail("--robot-map is required (manifests/robots/NAME.toml)");
   if (markerset.empty()) return fail("--markerset is required (manifests/markersets/NAME.toml)");
+  return HasValidValues(error);
+}
+
+bool RetargetOptions::HasValidValues(std::string* error) const {
+  auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
   if (!(smoothing >= 0)) return fail("--smoothing must be >= 0 (0: no trajectory refinement)");
   if (!(velocity_limit_scale >= 0)) return fail("--velocity-limit-scale must be >= 0 (0: unbounded)");
   if (!(scale >= 0)) return fail("--scale must be auto or a positive number");

@@ -78,7 +78,10 @@ struct RetargetOptions {
   // The base's residual split into contact forces at the planted soles (contact_forces.h).
   ContactForceOptions contact_forces;
 
+  // The input files given and every value in range.
   bool IsValid(std::string* error) const;
+  // Every value in range (what `--print-parameters` checks: the files are inputs, not parameters).
+  bool HasValidValues(std::string* error) const;
   nlohmann::json ToJson() const;
 };
 

@@ -30,10 +30,12 @@ int main(int argc, char** argv) {
       ->transform(CLI::CheckedTransformer(std::map<std::string, syn::MomentumKind>{
           {"generalized", syn::MomentumKind::kGeneralized}, {"centroidal", syn::MomentumKind::kCentroidal}}))
       ->default_str("generalized");
-  const auto parameters = [&] { return syn::WithFloatingBase(options.ToJson(), floating_base); };
+  const auto parameters = [&] {
+    syn::RequireValid(options);
+    return syn::WithFloatingBase(options.ToJson(), floating_base);
+  };
   return syn::RunTool(app, argc, argv, parameters, [&] {
-    std::string problem;
-    if (!options.IsValid(&problem)) throw syn::UsageError(problem);
+    syn::RequireValid(options);
     const syn::Model model = syn::LoadModel(model_path, floating_base);
     syn::PrintWarnings("syn-segment", model.warnings());
     syn::PrintNotes("syn-segment", model.notes(), common.verbose);

@@ -73,10 +73,12 @@ int main(int argc, char** argv) {
       ->transform(CLI::CheckedTransformer(std::map<std::string, syn::Integrator>{
           {"euler", syn::Integrator::kSemiImplicitEuler}, {"rk4", syn::Integrator::kRungeKutta4}}))
       ->default_str("euler");
-  const auto parameters = [&] { return syn::WithFloatingBase(options.ToJson(), floating_base); };
+  const auto parameters = [&] {
+    syn::RequireValid(options);
+    return syn::WithFloatingBase(options.ToJson(), floating_base);
+  };
   return syn::RunTool(app, argc, argv, parameters, [&] {
-    std::string problem;
-    if (!options.IsValid(&problem)) throw syn::UsageError(problem);
+    syn::RequireValid(options);
     const syn::Model model = syn::LoadModel(model_path, floating_base);
     syn::PrintWarnings("syn-simulate", model.warnings());
     const syn::RobotMap map = syn::LoadRobotMap(map_path);

@@ -27,9 +27,11 @@ int main(int argc, char** argv) {
   app.add_option("--trial", options.labels.trial, "Label: trial id");
   app.add_option("--style", options.labels.style, "Label: style library the trial joins");
   app.add_option("--motion-class", options.labels.motion_class, "Label: motion class");
-  return syn::RunTool(app, argc, argv, [&] { return options.ToJson(); }, [&] {
-    std::string problem;
-    if (!options.IsValid(&problem)) throw syn::UsageError(problem);
+  return syn::RunTool(app, argc, argv, [&] {
+        syn::RequireValid(options);
+        return options.ToJson();
+      }, [&] {
+    syn::RequireValid(options);
     const syn::MotionData motion = syn::ReadMotionFile(motion_path);
     const syn::SegmentsData segments = syn::ReadSegmentsFile(segments_path);
     const syn::TrialSynergies synergies = syn::ComputeTrialSynergies(motion, segments.boundaries, options);

@@ -93,5 +93,26 @@ TEST_F(MappingPlan, UnknownMappingIsAnErrorAtItsLine) {
   EXPECT_NE(result.output.find("mapping must be \"kinematic\" or \"osc\""), std::string::npos) << result.output;
 }
 
+// A value the stage refuses fails the plan at the trial's line ([[trial]], line 10 here) with the stage's own message, before make
+// runs anything, and leaves no rules behind; the same names with good values plan.
+TEST_F(MappingPlan, ValuesTheStagesRefuseFailThePlan) {
+  CommandResult result = plan("[retarget]\nmapping = \"osc\"\n[simulate]\ncontact = \"floor\"\n");
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.output.find("tiny.toml:10: trial walk: syn-simulate refuses its [simulate] parameters: --contact floor"),
+            std::string::npos)
+      << result.output;
+  EXPECT_FALSE(fs::exists(dir_ + "/outputs/tiny/rules.mk"));
+  result = plan("[retarget]\nfriction = -1\n");
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.output.find("syn-retarget refuses its [retarget] parameters: --friction -1: --friction must be > 0"),
+            std::string::npos)
+      << result.output;
+  result = plan("[segment]\nmin_duration = -2\n");
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.output.find("syn-segment refuses"), std::string::npos) << result.output;
+  result = plan("[retarget]\nfriction = 0.6\nmapping = \"osc\"\n[simulate]\ncontact = \"ground\"\n");
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+}
+
 }  // namespace
 }  // namespace syn::testing
