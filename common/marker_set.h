@@ -19,11 +19,13 @@
 namespace syn {
 
 // The landmarks of the paper (Table I), in this order everywhere, then the shoulders (glenohumeral joint
-// centres, position only): no robot task tracks them, they measure the subject's arm length for the
-// retargeter's proportions (stages/retarget/stance_alignment.h). A marker set may leave any landmark out.
-inline constexpr std::array<const char*, 11> kLandmarkNames = {
-    "pelvis",     "upper_torso", "head",      "left_hand",     "right_hand",    "left_elbow",
-    "right_elbow", "left_foot",  "right_foot", "left_shoulder", "right_shoulder"};
+// centres), hips and knees (joint centres), position only: no robot task tracks them, they measure the
+// subject's arm and leg lengths for the retargeter's proportions (stages/retarget/stance_alignment.h). A
+// marker set may leave any landmark out.
+inline constexpr std::array<const char*, 15> kLandmarkNames = {
+    "pelvis",     "upper_torso", "head",      "left_hand",     "right_hand",     "left_elbow",
+    "right_elbow", "left_foot",  "right_foot", "left_shoulder", "right_shoulder", "left_hip",
+    "right_hip",  "left_knee",   "right_knee"};
 
 // One name with its alternates: {"LASI", "LFWT"}.
 using PointChoice = std::vector<std::string>;

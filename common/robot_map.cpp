@@ -93,6 +93,9 @@ class RobotMapParser {
         if (map.floating_base != "auto" && map.floating_base != "free" && map.floating_base != "fixed") {
           fields_.fail(value, "floating_base must be auto, free or fixed");
         }
+      } else if (name == "proportions") {
+        map.proportions = fields_.text(value, name);
+        if (map.proportions != "height" && map.proportions != "chains") fields_.fail(value, "proportions must be height or chains");
       } else if (name == "priority_weights") {
         const auto* list = value.as_array();
         if (!list || list->size() != 3) fields_.fail(value, "priority_weights must list 3 numbers (levels 1..3)");
@@ -132,7 +135,7 @@ class RobotMapParser {
         }
       } else {
         fields_.fail(value, "unknown key '" + name +
-                                "' (expected robot, floating_base, priority_weights, [[task]], [posture], "
+                                "' (expected robot, floating_base, proportions, priority_weights, [[task]], [posture], "
                                 "[reference_stance], [calibration_stance], [feet])");
       }
     }

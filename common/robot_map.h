@@ -44,6 +44,9 @@ struct RobotMap {
   std::string file;
   std::string robot;
   std::string floating_base = "auto";
+  // How the retargeter scales a capture onto this robot unless told (--proportions): "height" or "chains"
+  // (stages/retarget/stance_alignment.h).
+  std::string proportions = "height";
   std::vector<RobotTask> tasks;
   std::array<double, 3> priority_weights = {1.0, 0.1, 0.001};
   int posture_priority = 3;

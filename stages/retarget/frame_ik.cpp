@@ -16,6 +16,11 @@ namespace {
 // branch is then followed by frames that cross between them only as fast as the motors allow.
 constexpr double kBentKneePreference = 1.01;
 constexpr double kMidTakeBranchSwitch = 0.9;
+// rad/s or m/s: the fastest a base no motor drives (a virtual base chain) moves between frames: 0.5 rad a
+// frame at 120 Hz, far from the ~π of a jump to the other Euler-angle solution, and far above a person's
+// pelvis (under 10 rad/s in a dance). 20 rad/s held the HRP-4C's base back on CMU 94_07, whose right foot
+// then stayed 0.5 m from its target for the rest of the take.
+constexpr double kUnactuatedSpeed = 60.0;
 
 // Rotation vector of R_current R_targetᵀ: the world-frame rotation that takes
 // the target orientation to the current one.
@@ -292,7 +297,13 @@ FrameIkSummary FrameIk::solveOnce(const std::vector<IkTarget>& targets, Eigen::V
     const int q_index = u + impl.q_offset;
     q[q_index] = std::clamp(q[q_index], impl.lower[u], impl.upper[u]);
     double low = impl.lower[u] - q[q_index], high = impl.upper[u] - q[q_index];
-    const double reach = step_time * impl.model.uLimit()[u];
+    // A virtual base's URDF limits are placeholders (HRP-4C's floating_base_r1..r3: 1000 rad/s, 8.3 rad a
+    // frame at 120 Hz): a box that wide let a frame of CMU 94_07 jump to the other Euler-angle solution for
+    // the same pelvis orientation (r1 -0.14 -> 9.0 rad), after which r2 and r3 spun to ±8000 rad.
+    const double speed = impl.model.actuatedVelocities()[static_cast<size_t>(u)]
+                             ? impl.model.uLimit()[u]
+                             : std::min(impl.model.uLimit()[u], kUnactuatedSpeed);
+    const double reach = step_time * speed;
     if (step_time > 0 && std::isfinite(reach)) {
       low = std::max(low, -reach);
       high = std::min(high, reach);

@@ -95,14 +95,16 @@ int main(int argc, char** argv) {
   app.add_option_function<std::string>(
          "--proportions",
          [&](const std::string& text) {
-           if (text != "height" && text != "chains") {
-             throw CLI::ValidationError("--proportions", "must be height or chains, not '" + text + "'");
+           if (text != "map" && text != "height" && text != "chains") {
+             throw CLI::ValidationError("--proportions", "must be map, height or chains, not '" + text + "'");
            }
-           options.proportions_per_chain = text == "chains";
+           if (text == "map") options.proportions_per_chain.reset();
+           else options.proportions_per_chain = text == "chains";
          },
          "How landmark displacements are scaled when --scale is auto: height (one ratio, the head's height above the "
-         "feet) or chains (legs by the pelvis height above the feet, arms by shoulder-elbow-hand length)")
-      ->default_str("height");
+         "feet), chains (legs by hip-knee-ankle length, arms by shoulder-elbow-hand length) or map (the robot map's "
+         "proportions, height unless it says)")
+      ->default_str("map");
   app.add_option("--heading-from-pelvis", options.heading_from_pelvis,
                  "Take the heading from the pelvis frame averaged over the capture (a mid-stride reference frame turns "
                  "the feet's left-right vector, and planted feet cannot lie flat; false: the feet's and elbows' left-right "

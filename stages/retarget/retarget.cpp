@@ -647,7 +647,7 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"contact_blend", enforcement.blend}, {"stance_knee", enforcement.stance_knee},
           {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing},
           {"roll_with_source", enforcement.roll_with_source},
-          {"heading_from_pelvis", heading_from_pelvis}, {"proportions", proportions_per_chain ? "chains" : "height"},
+          {"heading_from_pelvis", heading_from_pelvis}, {"proportions", !proportions_per_chain ? "map" : *proportions_per_chain ? "chains" : "height"},
           {"friction", contact_forces.friction}, {"neutral_reference", neutral_reference}};
 }
 
@@ -737,10 +737,14 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
     robot_stance.task_landmarks.push_back(landmarks.names[static_cast<size_t>(tasks.landmark[i])]);
     task_links.push_back(model.linkNames()[static_cast<size_t>(tasks.ik[i].link)]);
   }
-  if (options.proportions_per_chain && options.scale <= 0) MeasureRobotArms(model, workspace, task_links, robot_stance);
+  const bool per_chain = options.proportions_per_chain.value_or(inputs.map.proportions == "chains");
+  if (per_chain && options.scale <= 0) {
+    MeasureRobotLegs(model, workspace, task_links, robot_stance);
+    MeasureRobotArms(model, workspace, task_links, robot_stance);
+  }
   AlignmentOptions alignment_options;
   alignment_options.fixed_scale = options.scale;
-  alignment_options.per_chain = options.proportions_per_chain;
+  alignment_options.per_chain = per_chain;
   alignment_options.heading_from_pelvis = options.heading_from_pelvis && options.reference_time < 0;
   const StanceAlignment alignment = AlignToRobot(stance_landmarks, robot_stance, reference, alignment_options, report.notes);
   report.heading_rad = alignment.heading_rad;

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,9 +43,10 @@ struct RetargetOptions {
   double reference_time = -1.0;
   // One robot/subject ratio for every landmark displacement; 0 = measured (stance_alignment.h).
   double scale = 0.0;
-  // Measured per chain (legs by the pelvis height above the feet, arms by shoulder–elbow–hand length) instead
-  // of one head-height ratio (stance_alignment.h says why it is not yet the default).
-  bool proportions_per_chain = false;
+  // Measured per chain (legs by hip–knee–ankle length, arms by shoulder–elbow–hand length) instead of one
+  // head-height ratio (stance_alignment.h says why it is not yet the default); unset: the robot map's
+  // proportions.
+  std::optional<bool> proportions_per_chain;
   // Frames with no target at all are bridged when the gap is at most this long (s).
   double max_bridge = 0.25;
   // Each frame's joint step is bounded by this fraction of the URDF velocity limit times the time since

@@ -72,6 +72,26 @@ double ArmRatio(const LandmarkTrajectories& landmarks, const RobotStance& robot,
   return sides ? sum / sides : std::nan("");
 }
 
+// Robot / subject leg length, the mean over the sides both have; NaN when neither side can be measured.
+double LegRatio(const LandmarkTrajectories& landmarks, const RobotStance& robot, int64_t reference) {
+  double sum = 0;
+  int sides = 0;
+  for (int side = 0; side < 2; ++side) {
+    Eigen::Vector3d hip, knee, ankle;
+    const std::string prefix = kSides[side];
+    if (!std::isfinite(robot.leg_length[side]) || !LandmarkPosition(landmarks, prefix + "_hip", reference, &hip) ||
+        !LandmarkPosition(landmarks, prefix + "_knee", reference, &knee) ||
+        !LandmarkPosition(landmarks, prefix + "_foot", reference, &ankle)) {
+      continue;
+    }
+    // Segment by segment: a bent knee at the reference frame does not shorten it.
+    const double subject = (knee - hip).norm() + (ankle - knee).norm();
+    if (subject < 0.3) continue;  // as HeightRatioAboveFeet: not a leg
+    sum += robot.leg_length[side] / subject, ++sides;
+  }
+  return sides ? sum / sides : std::nan("");
+}
+
 // Rotation about Z that turns the subject's forward direction (left × up) into +X.
 Eigen::Matrix3d HeadingAlignment(const Eigen::Vector3d& left, double* heading) {
   Eigen::Vector3d forward = left.cross(Eigen::Vector3d::UnitZ());
@@ -146,7 +166,44 @@ std::vector<std::string> LinksToRoot(const Model& model, std::string link) {
   return path;
 }
 
+// The two chains' paths from `ends` up to the root, and per chain the index in its path of the link just
+// below the first link the other chain shares (the body both hang from); 0 where they do not part.
+struct Branches {
+  std::vector<std::string> paths[2];
+  size_t below_branch[2] = {0, 0};
+  Branches(const Model& model, const std::string (&ends)[2]) {
+    for (int side = 0; side < 2; ++side) paths[side] = LinksToRoot(model, ends[side]);
+    for (int side = 0; side < 2; ++side) {
+      const std::vector<std::string>& path = paths[side];
+      const std::vector<std::string>& other = paths[1 - side];
+      size_t branch = 0;
+      while (branch < path.size() && std::find(other.begin(), other.end(), path[branch]) == other.end()) ++branch;
+      below_branch[side] = branch == 0 || branch == path.size() ? 0 : branch - 1;
+    }
+  }
+};
+
 }  // namespace
+
+void MeasureRobotLegs(const Model& model, Workspace& workspace, const std::vector<std::string>& task_links,
+                      RobotStance& stance) {
+  const std::vector<std::string>& task_landmarks = stance.task_landmarks;
+  const auto link_of = [&](const std::string& landmark) {
+    const auto found = std::find(task_landmarks.begin(), task_landmarks.end(), landmark);
+    return found == task_landmarks.end() ? std::string() : task_links[static_cast<size_t>(found - task_landmarks.begin())];
+  };
+  const std::string feet[2] = {link_of("left_foot"), link_of("right_foot")};
+  if (feet[0].empty() || feet[1].empty()) return;
+  const Branches legs(model, feet);
+  const auto position = [&](const std::string& link) -> Eigen::Vector3d {
+    return workspace.findLinkPose(model.findLinkIndex(link)).translation();
+  };
+  for (int side = 0; side < 2; ++side) {
+    const size_t hip = legs.below_branch[side];
+    if (hip == 0) continue;  // the foot link is itself where the chains part: no leg
+    stance.leg_length[side] = (position(legs.paths[side][hip]) - position(feet[side])).norm();
+  }
+}
 
 void MeasureRobotArms(const Model& model, Workspace& workspace, const std::vector<std::string>& task_links,
                       RobotStance& stance) {
@@ -157,22 +214,19 @@ void MeasureRobotArms(const Model& model, Workspace& workspace, const std::vecto
   };
   const std::string hands[2] = {link_of("left_hand"), link_of("right_hand")};
   if (hands[0].empty() || hands[1].empty()) return;
-  const std::vector<std::string> paths[2] = {LinksToRoot(model, hands[0]), LinksToRoot(model, hands[1])};
+  const Branches arms(model, hands);
   const auto position = [&](const std::string& link) -> Eigen::Vector3d {
     return workspace.findLinkPose(model.findLinkIndex(link)).translation();
   };
   for (int side = 0; side < 2; ++side) {
-    const std::vector<std::string>& path = paths[side];
-    const std::vector<std::string>& other = paths[1 - side];
+    const std::vector<std::string>& path = arms.paths[side];
     const std::string elbow = link_of(std::string(kSides[side]) + "_elbow");
-    // The first link up the hand's chain that the other hand's chain shares: the body both arms hang from.
-    size_t branch = 0;
-    while (branch < path.size() && std::find(other.begin(), other.end(), path[branch]) == other.end()) ++branch;
-    if (branch == 0 || branch == path.size()) continue;
-    const auto elbow_at = std::find(path.begin(), path.begin() + static_cast<std::ptrdiff_t>(branch), elbow);
-    if (elbow.empty() || elbow_at == path.begin() + static_cast<std::ptrdiff_t>(branch)) continue;
+    const size_t below_branch = arms.below_branch[side];
+    if (below_branch == 0) continue;
+    const auto elbow_at = std::find(path.begin(), path.begin() + static_cast<std::ptrdiff_t>(below_branch + 1), elbow);
+    if (elbow.empty() || elbow_at == path.begin() + static_cast<std::ptrdiff_t>(below_branch + 1)) continue;
     // The link just below the branch: its frame origin is the shoulder's first joint.
-    const Eigen::Vector3d shoulder = position(path[branch - 1]);
+    const Eigen::Vector3d shoulder = position(path[below_branch]);
     stance.arm_length[side] = (position(elbow) - shoulder).norm() + (position(hands[side]) - position(elbow)).norm();
   }
 }
@@ -186,7 +240,12 @@ StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const RobotS
     alignment.leg_scale = alignment.arm_scale = options.fixed_scale;
     return alignment;
   }
-  double legs = options.per_chain ? HeightRatioAboveFeet(landmarks, robot, "pelvis", reference) : std::nan("");
+  double legs = options.per_chain ? LegRatio(landmarks, robot, reference) : std::nan("");
+  if (options.per_chain && !std::isfinite(legs)) {
+    legs = HeightRatioAboveFeet(landmarks, robot, "pelvis", reference);
+    if (std::isfinite(legs)) notes.push_back("could not measure the legs (hip, knee and foot landmarks, foot tasks): legs "
+                                             "scaled by the pelvis height above the feet");
+  }
   if (!std::isfinite(legs)) {
     legs = HeightRatioAboveFeet(landmarks, robot, "head", reference);
     if (!std::isfinite(legs)) notes.push_back("could not measure heights (head and feet tasks needed): scale 1");

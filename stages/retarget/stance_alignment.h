@@ -3,15 +3,22 @@
 // A landmark's target is its robot link's pose in the reference stance plus the landmark's displacement since
 // the reference frame, turned and scaled. Two ways to scale (issue 17, item 3):
 //   * height (the default): one robot / subject ratio of the head's height above the feet for everything;
-//   * per chain (--proportions chains): the pelvis, the feet, the trunk and the head move by
-//     leg_scale = robot / subject height of the pelvis above the feet at the reference (the pelvis height in
-//     leg lengths); the elbows and hands move with the pelvis (leg_scale) plus their motion relative to it
+//   * per chain (--proportions chains, or the robot map's proportions = "chains"): the pelvis, the feet, the
+//     trunk and the head move by leg_scale = robot / subject leg length, hip to ankle (the robot's from its
+//     URDF, the subject's hip–knee–ankle from the marker set's hip and knee landmarks; without them the
+//     pelvis height above the feet at the reference); the elbows and hands move with the pelvis (leg_scale) plus their motion relative to it
 //     scaled by arm_scale = robot / subject arm length, shoulder–elbow–hand (the robot's from its URDF, the
 //     subject's from the marker set's shoulder landmarks; without them the arms move as the legs).
 // Why both: the G1 map's "head" link sits at its waist, so its height ratio is 0.54-0.64 on CMU subjects
-// against leg ratios of 0.82-1.11 — strides and pelvis heights shrunk to two thirds. Per chain is the
+// against leg ratios of 0.76-0.82 — strides and pelvis heights shrunk by a quarter. Per chain is the
 // faithful proportion, but at full-length strides the contact enforcement does not yet keep flat planted
 // feet still on the G1 (32 CMU walks and dances: drift bounds met on 18, was 24), so it is not yet the default.
+// Legs by their length, not the pelvis height: the pelvis link is not at the same place on every robot —
+// HRP-4C's hip_base is 0.197 m above its hip joints, the G1's pelvis 0.10 m, CMU's Hips 0.10 m — and a
+// reference frame mid-stride or crouched lowers the subject's pelvis. On HRP-4C (leg 0.69 m) the pelvis
+// heights gave 1.01-1.3 on CMU subjects whose legs are 0.80-0.87 m (0.80-0.86 by length), and the head
+// height 0.93-1.2: HRP-4C's neck stands as high as a CMU subject's, on shorter legs. Strides scaled by it
+// outreach its legs, the base was lowered 10-14 cm, and its planted feet drifted 11-302 mm per phase.
 // With --scale every landmark moves by the one given ratio.
 #pragma once
 
@@ -42,12 +49,20 @@ struct RobotStance {
   std::vector<Eigen::Isometry3d> link_reference;
   // Per side (left, right; NaN when the map does not track that arm): shoulder–elbow + elbow–hand, metres.
   double arm_length[2] = {std::nan(""), std::nan("")};
+  // Per side, as arm_length: hip (the first joint below where the feet's chains part) to the foot task's link.
+  double leg_length[2] = {std::nan(""), std::nan("")};
 };
 
 // The robot's arm lengths for RobotStance: from the joint where the two hand links' chains part (the
 // shoulder's first joint) to the elbow task's link, plus on to the hand task's link, at the workspace's pose.
 // `task_links`: the link of each of stance.task_landmarks.
 void MeasureRobotArms(const Model& model, Workspace& workspace, const std::vector<std::string>& task_links,
+                      RobotStance& stance);
+
+// The robot's leg lengths for RobotStance: the straight distance from the hip (the first link below where the
+// two foot links' chains part) to the foot task's link at the workspace's pose — the leg's length when the
+// reference stance stands straight-legged, as both maps' do (a bent one would measure it short).
+void MeasureRobotLegs(const Model& model, Workspace& workspace, const std::vector<std::string>& task_links,
                       RobotStance& stance);
 
 struct AlignmentOptions {

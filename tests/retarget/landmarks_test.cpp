@@ -120,8 +120,8 @@ TEST(MarkerSet, BundledSetsParse) {
   for (const char* name : {"plugin-gait", "cmu-bvh", "humanml3d22"}) {
     const MarkerSet set = LoadMarkerSet(testing::SourcePath(std::string("manifests/markersets/") + name + ".toml"));
     EXPECT_EQ(set.name, name);
-    // Every Table I landmark; the shoulders where the format names them (a Plug-in Gait capture need not
-    // carry LSHO/RSHO, so that set leaves them to the retargeter's anthropometric estimate).
+    // Every Table I landmark; the shoulders, hips and knees where the format names them (a Plug-in Gait
+    // capture need not carry LSHO/RSHO, so that set leaves them to the retargeter's anthropometric estimate).
     std::vector<std::string> names;
     for (const LandmarkDefinition& landmark : set.landmarks) names.push_back(landmark.name);
     const size_t expected = std::string(name) == "plugin-gait" ? 9 : kLandmarkNames.size();

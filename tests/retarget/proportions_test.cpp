@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
 
 #include "common/intermediate_file.h"
 #include "common/markers_file.h"
@@ -73,37 +74,39 @@ TEST_F(Proportions, LegsAndArmsScaleByTheirOwnLengths) {
   const MotionData motion = RetargetFile(markers_, Options(true), &summary);
   ASSERT_EQ(summary.reference_frame, 0);
 
-  // The subject at the reference frame, from the BVH's joints: CMU's Hips, LeftFoot (ankle), LeftArm
-  // (glenohumeral), LeftForeArm (elbow), LeftHand (wrist).
+  // The subject at the reference frame, from the BVH's joints: CMU's Hips, LeftUpLeg (hip), LeftLeg (knee),
+  // LeftFoot (ankle), LeftArm (glenohumeral), LeftForeArm (elbow), LeftHand (wrist).
   const auto at0 = [&](const char* body) { return Joint(capture_, body, 0); };
-  const double subject_leg = at0("Hips").z() - 0.5 * (at0("LeftFoot").z() + at0("RightFoot").z());
-  double subject_arm[2];
+  double subject_arm[2], subject_leg[2];
   for (int side = 0; side < 2; ++side) {
     const std::string s = side == 0 ? "Left" : "Right";
+    subject_leg[side] = (at0((s + "UpLeg").c_str()) - at0((s + "Leg").c_str())).norm() +
+                        (at0((s + "Leg").c_str()) - at0((s + "Foot").c_str())).norm();
     subject_arm[side] = (at0((s + "Arm").c_str()) - at0((s + "ForeArm").c_str())).norm() +
                         (at0((s + "ForeArm").c_str()) - at0((s + "Hand").c_str())).norm();
   }
-  // The G1 in its zero pose, by the independent FK: pelvis above the ankle links; shoulder pitch joint
-  // (the first link below the torso both arms hang from) to the elbow link to the hand link.
+  // The G1 in its zero pose, by the independent FK: hip pitch joint (the first link below the pelvis both
+  // legs hang from) to the ankle link; shoulder pitch joint (the first link below the torso both arms hang
+  // from) to the elbow link to the hand link.
   const testing::IndependentFk fk(testing::SourcePath(testing::kG1Urdf));
   const auto links = fk.poses(std::map<std::string, double>{}, Eigen::Isometry3d::Identity());
   const auto at = [&](const std::string& link) { return links.at(link).translation(); };
-  const double robot_leg = at("pelvis").z() - 0.5 * (at("left_ankle_roll_link").z() + at("right_ankle_roll_link").z());
-  double arm_ratio = 0;
+  double arm_ratio = 0, leg_ratio = 0;
   for (int side = 0; side < 2; ++side) {
     const std::string s = side == 0 ? "left" : "right";
+    leg_ratio += 0.5 * (at(s + "_hip_pitch_link") - at(s + "_ankle_roll_link")).norm() / subject_leg[side];
     const double robot_arm = (at(s + "_shoulder_pitch_link") - at(s + "_elbow_link")).norm() +
                              (at(s + "_elbow_link") - at(s + "_rubber_hand")).norm();
     arm_ratio += 0.5 * robot_arm / subject_arm[side];
   }
-  EXPECT_NEAR(summary.scale, robot_leg / subject_leg, 1e-9);
+  EXPECT_NEAR(summary.scale, leg_ratio, 1e-9);
   EXPECT_NEAR(summary.arm_scale, arm_ratio, 1e-9);
   // The G1 map's head link sits at the waist: its height ratio (the default mode's one scale) is far below
   // the leg ratio, the reason this mode exists.
   RetargetSummary height;
   (void)RetargetFile(markers_, Options(false), &height);
   EXPECT_EQ(height.scale, height.arm_scale);
-  EXPECT_LT(height.scale, 0.75 * summary.scale) << "height " << height.scale << ", legs " << summary.scale;
+  EXPECT_LT(height.scale, 0.8 * summary.scale) << "height " << height.scale << ", legs " << summary.scale;
 
   // Every frame's targets: the pelvis moves by the leg scale, a hand by the pelvis's motion plus its own
   // motion relative to the pelvis at the arm scale, both turned by the reported heading (targets compared
@@ -120,6 +123,30 @@ TEST_F(Proportions, LegsAndArmsScaleByTheirOwnLengths) {
     worst = std::max(worst, (Target(motion, "left_hand", t) - Target(motion, "left_hand", 0) - expected_hand).norm());
   }
   EXPECT_LT(worst, 1e-9) << "largest target difference, m";
+}
+
+// HRP-4C's map asks for per-chain proportions: its legs (hip to ankle, by the independent FK of its zero
+// pose) against the subject's thigh and shank, not its pelvis link's height — hip_base is 0.197 m above its
+// hips, CMU's Hips 0.10 m —, which gave 1.01 on this walk for a leg ratio of 0.82.
+TEST_F(Proportions, Hrp4cLegsScaleByTheirLength) {
+  SYN_REQUIRE_SHARED("robots/humanoid_synergies/HRP4c_optitrack_model.urdf");
+  RetargetOptions options = Options(false);
+  options.proportions_per_chain.reset();  // the map's
+  options.model = testing::SharedPath("robots/humanoid_synergies/HRP4c_optitrack_model.urdf");
+  options.robot_map = testing::SourcePath("manifests/robots/hrp4c.toml");
+  RetargetSummary summary;
+  (void)RetargetFile(markers_, options, &summary);
+  const testing::IndependentFk fk(options.model);
+  const auto links = fk.poses(std::map<std::string, double>{}, Eigen::Isometry3d::Identity());
+  const auto at = [&](const std::string& link) { return links.at(link).translation(); };
+  const auto at0 = [&](const std::string& body) { return Joint(capture_, body, 0); };
+  double leg_ratio = 0;
+  for (const auto& [robot, subject] : {std::pair<std::string, std::string>{"LL", "Left"}, {"RL", "Right"}}) {
+    const double subject_leg = (at0(subject + "UpLeg") - at0(subject + "Leg")).norm() + (at0(subject + "Leg") - at0(subject + "Foot")).norm();
+    leg_ratio += 0.5 * (at(robot + "_KOSY_L1") - at(robot + "_foot")).norm() / subject_leg;
+  }
+  EXPECT_NEAR(summary.scale, leg_ratio, 1e-9);
+  EXPECT_LT(summary.scale, 0.85);
 }
 
 // The feet's neutral reference (stance_alignment.h NeutralReference): the walk's first frame is mid-stride,

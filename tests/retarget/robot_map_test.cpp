@@ -92,6 +92,7 @@ TEST(RobotMap, MistakesAreReportedAtTheirLine) {
   EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\npriority = 4\n"), 4);
   EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n[[task]]\nlandmark = \"pelvis\"\nlink = \"q\"\n"), 4);
   EXPECT_EQ(line_of("robot = \"x\"\nspeed = 3\n"), 2);
+  EXPECT_EQ(line_of("robot = \"x\"\nproportions = \"arms\"\n"), 2);
   // The posture level indexes the three priority weights: out of range, fractional or huge is an error, not UB.
   EXPECT_EQ(line_of("[posture]\npriority = 0\n"), 2);
   EXPECT_EQ(line_of("[posture]\npriority = 55555755555555555\n"), 2);
@@ -117,6 +118,7 @@ TEST(RobotMap, Hrp4cNamesExistInThePapersRobot) {
       map, [&](const std::string& link) { return model.findLinkIndex(link) >= 0; },
       [&](const std::string& joint) { return std::find(names.begin(), names.end(), joint) != names.end(); }, "HRP-4C"));
   EXPECT_FALSE(model.hasFreeBase());  // its own virtual base chain
+  EXPECT_EQ(map.proportions, "chains");  // stance_alignment.h: its legs are shorter than its height says
 }
 
 TEST(RobotMap, H1MapNamesExistAndItsArmsAreFixed) {
