@@ -239,6 +239,36 @@ std::vector<double> SmoothUpperEnvelope(const std::vector<double>& need, int64_t
   return envelope;
 }
 
+// The legs' joint speeds over the result against their URDF limits (not --velocity-limit-scale's share of
+// them: the motors' own), into the report's overspeed fields. Every frame, solved or not: a frame after the
+// last solved one steps back to the tracked motion.
+void MeasureOverspeed(const Model& model, const std::vector<LegChain>& chains, const std::vector<double>& time_s,
+                      const std::vector<double>& q, ContactEnforcementReport& out) {
+  const int64_t nq = model.nq(), frames = static_cast<int64_t>(time_s.size());
+  int worst_coordinate = -1;
+  for (int64_t t = 1; t < frames; ++t) {
+    const double step = time_s[static_cast<size_t>(t)] - time_s[static_cast<size_t>(t - 1)];
+    if (!(step > 0)) continue;
+    for (const LegChain& chain : chains) {
+      for (size_t k = 0; k < chain.size(); ++k) {
+        if (!std::isfinite(chain.speed_limit[k]) || !(chain.speed_limit[k] > 0)) continue;
+        const size_t i = static_cast<size_t>(chain.q_index[k]);
+        const double ratio = std::abs(q[static_cast<size_t>(t * nq) + i] - q[static_cast<size_t>((t - 1) * nq) + i]) /
+                             (step * chain.speed_limit[k]);
+        // A hair over 1 is the bounded solve's own rounding, not a joint driven past its motor.
+        if (ratio > 1.0 + 1e-6) ++out.overspeed_joint_frames;
+        if (ratio > out.worst_speed_ratio) {
+          out.worst_speed_ratio = ratio, out.worst_speed_frame = t, worst_coordinate = chain.q_index[k];
+        }
+      }
+    }
+  }
+  if (worst_coordinate >= 0) {
+    out.worst_speed_joint = model.coordinateNames()[static_cast<size_t>(worst_coordinate)];
+    out.worst_speed_time = time_s[static_cast<size_t>(out.worst_speed_frame)];
+  }
+}
+
 }  // namespace
 
 bool ContactEnforcementOptions::IsValid(std::string* error) const {
@@ -341,7 +371,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   const std::vector<double> lowering = SmoothUpperEnvelope(need, half_width);
 
   int64_t iterations = 0;
-  std::vector<bool> retry(foot_count);
+  std::vector<bool> retry(foot_count), planted(foot_count, false);
   previous_frame = -2;
   Eigen::VectorXd before(nq);  // the previous frame, final: the velocity limits' centre
   for (int64_t t = 0; t < frames; ++t) {
@@ -357,8 +387,9 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     for (size_t f = 0; f < foot_count; ++f) {
       frame_targets[f] = target[f][static_cast<size_t>(t)];
       active[f] = drop > 1e-9 || changed[f][static_cast<size_t>(t)];
+      planted[f] = options.contacts_above_speed && static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f));
     }
-    LegSolveResult solved = solver.solve(workspace, frame_targets, active, frame_q, 0.0, &before, step_time);
+    LegSolveResult solved = solver.solve(workspace, frame_targets, active, frame_q, 0.0, &before, step_time, &planted);
     for (int round = 0; round < 5; ++round) {
       bool rolled = false;
       for (size_t f = 0; f < foot_count; ++f) {
@@ -379,7 +410,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
         rolled = rolled || through_floor;
       }
       if (!rolled) break;
-      const LegSolveResult again = solver.solve(workspace, frame_targets, retry, frame_q, 0.0, &before, step_time);
+      const LegSolveResult again = solver.solve(workspace, frame_targets, retry, frame_q, 0.0, &before, step_time, &planted);
       solved.iterations += again.iterations;
       // The worst of either solve: a rolled foot's first error was against the flat pose it gave up.
       solved.position_error = std::max(solved.position_error, again.position_error);
@@ -408,7 +439,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
         for (size_t f = 0; f < foot_count; ++f) retry[f] = active[f];
         if (round == 1) ++out.raised_frames;
       }
-      const LegSolveResult again = solver.solve(workspace, frame_targets, retry, frame_q, 0.0, &before, step_time);
+      const LegSolveResult again = solver.solve(workspace, frame_targets, retry, frame_q, 0.0, &before, step_time, &planted);
       solved.iterations += again.iterations;
     }
     iterations += solved.iterations;
@@ -423,6 +454,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     previous = frame_q, previous_frame = t;
   }
   out.mean_iterations = out.solved_frames ? static_cast<double>(iterations) / static_cast<double>(out.solved_frames) : 0.0;
+  MeasureOverspeed(model, chains, time_s, q, out);
 }
 
 }  // namespace syn

@@ -35,7 +35,9 @@
 // 4. Legs. Each frame whose foot targets differ from where the lowered robot
 //    puts its feet is solved exactly for those feet by the leg chains
 //    (leg_chain.h), every other joint unchanged, each leg joint within its
-//    velocity limit of the previous frame. Where the limits still leave a sole
+//    velocity limit of the previous frame, except, with `contacts_above_speed`,
+//    a planted foot's leg: the contact then ranks above the motors' speed. The
+//    joint-frames over their limit are reported either way. Where the limits still leave a sole
 //    in the floor (an ankle that cannot pitch the foot flat, a knee that
 //    cannot bend as fast as the body drops), the foot stands on its lowest
 //    point instead: its target rises by the depth, and if the leg cannot lift
@@ -70,6 +72,16 @@ struct ContactEnforcementOptions {
   // --velocity-limit-scale; 0: unbounded): a foot the leg cannot follow that fast falls short (reported)
   // instead of the leg jumping to another configuration (a knee 0.96 rad in one frame of CMU 05_11).
   double velocity_limit_scale = 1.0;
+  // A planted foot's leg is solved without that bound (its position limits kept): the contact ranks above
+  // the motors' speed (issue 17), and what it costs is reported (ContactEnforcementReport::overspeed_*).
+  // HRP-4C's URDF limits (knee 3.07, hip pitch 2.74, ankle pitch 2.09 rad/s) bound 30-85 % of a CMU walk's
+  // stance frames, whose knees move at 5-7 rad/s, and its planted feet slid instead: on the 32 CMU walks and
+  // dances the trials' stance drift medians went from 6.7-128 mm (median 34.8) to 0-41 (3.8), 23 trials
+  // within 10 mm median and 25 mm p95 (was 1). Not yet the default: the legs then jump where a phase begins
+  // (the swing leg, still bounded, lags its blend-in, and the first planted frame snaps onto the plant —
+  // 02_01's left knee 0.92 -> 0.36 rad in one frame), worst steps 5-97 times the limit, 29-3040 leg
+  // joint-frames over it per trial; G1, whose limits rarely bind, 0-8 (07_01, 08_01, 94_07 change).
+  bool contacts_above_speed = false;
 
   bool IsValid(std::string* error) const;
 };
@@ -86,6 +98,13 @@ struct ContactEnforcementReport {
   int64_t rolled_foot_frames = 0;       // foot-frames rolled about a sole edge (a joint limit pitched the foot)
   int64_t lifted_frames = 0;            // frames with a foot lifted onto its lowest sole point (its leg at a limit)
   int64_t raised_frames = 0;            // of those, frames whose base rose too (the leg could not lift the foot)
+  // The legs' joints against their URDF velocity limits over the result (each frame's step from the one
+  // before): joint-frames over the limit, the largest speed / limit, and where (coordinate, frame).
+  int64_t overspeed_joint_frames = 0;
+  double worst_speed_ratio = 0.0;
+  std::string worst_speed_joint;
+  int64_t worst_speed_frame = -1;
+  double worst_speed_time = 0.0;        // s, of worst_speed_frame
 };
 
 // source_feet[f][t]: foot f's landmark target (NaN translation: missing; NaN in the rotation's first entry:

@@ -137,7 +137,7 @@ double LegSolver::poseError(const Eigen::Isometry3d& target, const Eigen::Isomet
 
 LegSolveResult LegSolver::solve(Workspace& workspace, const std::vector<Eigen::Isometry3d>& targets,
                                 const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor,
-                                const Eigen::VectorXd* previous, double dt) {
+                                const Eigen::VectorXd* previous, double dt, const std::vector<bool>* unbounded) {
   LegSolveResult result;
   Eigen::Matrix<double, 6, 1> error, trial_error;
   ChainMatrix normal, damped;
@@ -149,6 +149,7 @@ LegSolveResult LegSolver::solve(Workspace& workspace, const std::vector<Eigen::I
     const LegChain& chain = chains_[c];
     const Eigen::Isometry3d root = workspace.findLinkPose(chain.root_link);
     const Eigen::Index n = static_cast<Eigen::Index>(chain.size());
+    const bool speed_bound = previous && dt > 0 && !(unbounded && (*unbounded)[c]);
     for (size_t k = 0; k < chain.size(); ++k) {
       lower_[k] = chain.branch[k] ? std::max(chain.lower[k], branch_floor) : chain.lower[k];
       upper_[k] = chain.upper[k];
@@ -159,7 +160,7 @@ LegSolveResult LegSolver::solve(Workspace& workspace, const std::vector<Eigen::I
       // unreachable target (0 <-> 0.46 rad a frame on CMU 05_02).
       if (chain.branch[k] && joint < lower_[k]) joint = lower_[k] + kBranchStart;
       const double reach = chain.speed_limit[k] * dt;
-      if (previous && dt > 0 && std::isfinite(reach)) {
+      if (speed_bound && std::isfinite(reach)) {
         // As the refinement's clamp: a previous value outside the limits still leaves a non-empty box.
         const double before = (*previous)[chain.q_index[k]];
         lower_[k] = std::max(lower_[k], std::min(before - reach, upper_[k]));

@@ -78,10 +78,12 @@ class LegSolver {
   // Realises the workspace at q once (for the legs' root links); the workspace is left there, not at the answer.
   // `previous` (nq, or null) with `dt` > 0: each joint stays within its velocity limit × dt of its value there,
   // the bound the per-frame IK and the refinement keep (a leg that cannot follow its foot that fast falls
-  // short instead of jumping to another branch).
+  // short instead of jumping to another branch). `unbounded` (one entry per chain, or null): chains solved
+  // without that bound, their position limits kept.
   LegSolveResult solve(Workspace& workspace, const std::vector<Eigen::Isometry3d>& targets,
                        const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor = 0.0,
-                       const Eigen::VectorXd* previous = nullptr, double dt = 0.0);
+                       const Eigen::VectorXd* previous = nullptr, double dt = 0.0,
+                       const std::vector<bool>* unbounded = nullptr);
 
   // Where the last solve left chain c's foot link (ground frame): valid for the chains that solve had active.
   const Eigen::Isometry3d& reached(size_t c) const { return reached_[c]; }

@@ -119,6 +119,11 @@ int main(int argc, char** argv) {
                  "Planted feet pitch with the source about their heel or toe edge (heel strike, toe-off) instead of "
                  "staying flat; the sole centre then moves with the roll")
       ->capture_default_str();
+  app.add_option("--contacts-above-speed", options.enforcement.contacts_above_speed,
+                 "A planted foot's leg may exceed its URDF velocity limits to keep the foot still (position limits "
+                 "kept; a prototype: the legs jump where a contact phase begins). false: every leg joint within its "
+                 "limit, the foot sliding where the leg cannot keep up. The summary counts the joint-frames over them")
+      ->capture_default_str();
   app.add_option("--friction", options.contact_forces.friction,
                  "Friction coefficient of the sole contact forces that explain the base's residual wrench (the friction "
                  "cone's slope; the motion's contact_force and unexplained_wrench)")
@@ -156,6 +161,13 @@ int main(int argc, char** argv) {
       writer.writeAttribute("", "penetration_frames_ratio", summary.penetrating_fraction);
       writer.writeAttribute("", "foot_skating", summary.foot_skating);
       writer.writeAttribute("", "source_foot_skating", summary.source_foot_skating);
+    }
+    if (summary.contacts_enforced) {
+      // What ranking planted feet above the motors' speed cost (contact_enforcement.h).
+      writer.writeAttribute("", "overspeed_joint_frames", summary.enforcement.overspeed_joint_frames);
+      writer.writeAttribute("", "worst_speed_ratio", summary.enforcement.worst_speed_ratio);
+      writer.writeAttribute("", "worst_speed_joint", summary.enforcement.worst_speed_joint);
+      writer.writeAttribute("", "worst_speed_time_s", summary.enforcement.worst_speed_time);
     }
     writer.commit();
     std::cerr << "syn-retarget: " << input << " -> " << common.output << ": " << summary.BriefReport() << "\n";

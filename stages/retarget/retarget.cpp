@@ -646,7 +646,7 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"contact_min_duration", contact.min_duration}, {"enforce_contacts", enforce_contacts},
           {"contact_blend", enforcement.blend}, {"stance_knee", enforcement.stance_knee},
           {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing},
-          {"roll_with_source", enforcement.roll_with_source},
+          {"roll_with_source", enforcement.roll_with_source}, {"contacts_above_speed", enforcement.contacts_above_speed},
           {"heading_from_pelvis", heading_from_pelvis}, {"proportions", !proportions_per_chain ? "map" : *proportions_per_chain ? "chains" : "height"},
           {"friction", contact_forces.friction}, {"neutral_reference", neutral_reference}};
 }
@@ -674,7 +674,12 @@ std::string RetargetSummary::BriefReport() const {
           << " frames out of reach, worst foot error " << enforcement.worst_position_error * 1000 << " mm / "
           << enforcement.worst_angle_error * 180 / M_PI << " deg, " << enforcement.rolled_foot_frames
           << " foot-frames rolled onto a sole edge, " << enforcement.lifted_frames
-          << " frames with a foot lifted onto its lowest point (" << enforcement.raised_frames << " with the base)";
+          << " frames with a foot lifted onto its lowest point (" << enforcement.raised_frames << " with the base), "
+          << enforcement.overspeed_joint_frames << " leg joint-frames over their URDF velocity limit";
+      if (enforcement.worst_speed_frame >= 0) {
+        out << " (worst " << enforcement.worst_speed_ratio << "x, " << enforcement.worst_speed_joint << " at "
+            << std::to_string(enforcement.worst_speed_time) << " s)";
+      }
     }
   }
   if (forces_split) {

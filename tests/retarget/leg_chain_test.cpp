@@ -95,6 +95,12 @@ TEST_F(LegChainTest, ReachedPoseIsSimbodysAndTheVelocityBoxHolds) {
   Eigen::VectorXd free = previous;
   const LegSolveResult unbounded = solver.solve(workspace_, {far}, {true}, free);
   EXPECT_LT(unbounded.position_error, 1e-6);
+  // A chain marked unbounded (a planted foot's leg, contact_enforcement.h) reaches it with the box given.
+  Eigen::VectorXd planted = previous;
+  const std::vector<bool> lifted = {true};
+  const LegSolveResult over_speed = solver.solve(workspace_, {far}, {true}, planted, 0.0, &previous, dt, &lifted);
+  EXPECT_LT(over_speed.position_error, 1e-6);
+  EXPECT_LT((planted - free).norm(), 1e-9);
 }
 
 // HRP-4C: a virtual floating base (six massless joints) above the legs, and its own joint frames.
