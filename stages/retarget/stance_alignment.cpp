@@ -183,21 +183,26 @@ struct Branches {
   }
 };
 
+// The robot link the map's task on `landmark` drives ("" when no task names it).
+std::string TaskLinkOf(const RobotStance& stance, const std::vector<std::string>& task_links, const std::string& landmark) {
+  const std::vector<std::string>& task_landmarks = stance.task_landmarks;
+  const auto found = std::find(task_landmarks.begin(), task_landmarks.end(), landmark);
+  return found == task_landmarks.end() ? std::string() : task_links[static_cast<size_t>(found - task_landmarks.begin())];
+}
+
+Eigen::Vector3d LinkPosition(const Model& model, Workspace& workspace, const std::string& link) {
+  return workspace.findLinkPose(model.findLinkIndex(link)).translation();
+}
+
 }  // namespace
 
 void MeasureRobotLegs(const Model& model, Workspace& workspace, const std::vector<std::string>& task_links,
                       RobotStance& stance) {
-  const std::vector<std::string>& task_landmarks = stance.task_landmarks;
-  const auto link_of = [&](const std::string& landmark) {
-    const auto found = std::find(task_landmarks.begin(), task_landmarks.end(), landmark);
-    return found == task_landmarks.end() ? std::string() : task_links[static_cast<size_t>(found - task_landmarks.begin())];
-  };
+  const auto link_of = [&](const std::string& landmark) { return TaskLinkOf(stance, task_links, landmark); };
   const std::string feet[2] = {link_of("left_foot"), link_of("right_foot")};
   if (feet[0].empty() || feet[1].empty()) return;
   const Branches legs(model, feet);
-  const auto position = [&](const std::string& link) -> Eigen::Vector3d {
-    return workspace.findLinkPose(model.findLinkIndex(link)).translation();
-  };
+  const auto position = [&](const std::string& link) { return LinkPosition(model, workspace, link); };
   for (int side = 0; side < 2; ++side) {
     const size_t hip = legs.below_branch[side];
     if (hip == 0) continue;  // the foot link is itself where the chains part: no leg
@@ -207,17 +212,11 @@ void MeasureRobotLegs(const Model& model, Workspace& workspace, const std::vecto
 
 void MeasureRobotArms(const Model& model, Workspace& workspace, const std::vector<std::string>& task_links,
                       RobotStance& stance) {
-  const std::vector<std::string>& task_landmarks = stance.task_landmarks;
-  const auto link_of = [&](const std::string& landmark) {
-    const auto found = std::find(task_landmarks.begin(), task_landmarks.end(), landmark);
-    return found == task_landmarks.end() ? std::string() : task_links[static_cast<size_t>(found - task_landmarks.begin())];
-  };
+  const auto link_of = [&](const std::string& landmark) { return TaskLinkOf(stance, task_links, landmark); };
   const std::string hands[2] = {link_of("left_hand"), link_of("right_hand")};
   if (hands[0].empty() || hands[1].empty()) return;
   const Branches arms(model, hands);
-  const auto position = [&](const std::string& link) -> Eigen::Vector3d {
-    return workspace.findLinkPose(model.findLinkIndex(link)).translation();
-  };
+  const auto position = [&](const std::string& link) { return LinkPosition(model, workspace, link); };
   for (int side = 0; side < 2; ++side) {
     const std::vector<std::string>& path = arms.paths[side];
     const std::string elbow = link_of(std::string(kSides[side]) + "_elbow");

@@ -77,15 +77,22 @@ class ContactForces : public ::testing::Test {
   static RobotMap G1Map() { return LoadRobotMap(testing::SourcePath(testing::kG1Map)); }
 };
 
-// Still, both soles flat on the floor, the centre of mass between them: the soles carry the weight and
-// nothing is left over.
-void ExpectStandingCarriesWeight(const Model& model, const RobotMap& map) {
-  Workspace workspace(model);
+// The inverse-dynamics forces of standing still in the zero pose on both soles (the workspace left there).
+Eigen::VectorXd StandingStillForces(const Model& model, const RobotMap& map, Workspace& workspace) {
   const Eigen::VectorXd still = Eigen::VectorXd::Zero(model.nu());
   Eigen::VectorXd tau(model.nu());
   workspace.setQ(testing::StandingZeroPose(model, map));
   workspace.setU(still);
   workspace.calcInverseDynamics(still, tau);
+  return tau;
+}
+
+// Still, both soles flat on the floor, the centre of mass between them: the soles carry the weight and
+// nothing is left over.
+void ExpectStandingCarriesWeight(const Model& model, const RobotMap& map) {
+  Workspace workspace(model);
+  const Eigen::VectorXd still = Eigen::VectorXd::Zero(model.nu());
+  const Eigen::VectorXd tau = StandingStillForces(model, map, workspace);
   ContactForceSplit split(model, map.feet, {});
   ASSERT_TRUE(split.hasBase());
   const std::vector<int64_t> planted(map.feet.size(), 1);
@@ -175,10 +182,7 @@ TEST_F(ContactForces, TwoFeetShareTheLoadContinuously) {
   const RobotMap map = G1Map();
   Workspace workspace(model);
   const Eigen::VectorXd still = Eigen::VectorXd::Zero(model.nu());
-  Eigen::VectorXd tau(model.nu());
-  workspace.setQ(testing::StandingZeroPose(model, map));
-  workspace.setU(still);
-  workspace.calcInverseDynamics(still, tau);
+  const Eigen::VectorXd tau = StandingStillForces(model, map, workspace);
   ContactForceSplit split(model, map.feet, {});
   const std::vector<int64_t> planted(map.feet.size(), 1);
   const double weight = model.totalMass() * model.gravity();
