@@ -9,6 +9,7 @@
 
 #include "common/error.h"
 #include "common/percentile.h"
+#include "stages/retarget/branch_joints.h"
 #include "stages/retarget/leg_chain.h"
 
 namespace syn {
@@ -211,10 +212,17 @@ std::vector<std::vector<Eigen::Isometry3d>> FreePoses(const std::vector<SoleGeom
 // Consecutive frames' legs are solved from the previous frame's answer: where joint limits leave a target
 // out of reach, several leg configurations come equally close, and a start taken from the tracked motion
 // let the solution jump between them (a 0.9 rad hip-yaw step in one frame of CMU 60_10).
+// A leg with no previous answer (a take's first frame) whose knee the tracked motion left straight on its
+// floor starts bent instead: the leg solver keeps a straight knee straight (there the foot cannot move
+// along the leg), and CMU 07_01's first frame kept its right foot 14 cm off target, the next frames
+// bending the knee at its speed limit while the planted foot slid.
 void ContinueLegs(const std::vector<LegChain>& chains, const Eigen::VectorXd& previous, bool consecutive, Eigen::VectorXd& q) {
-  if (!consecutive) return;
   for (const LegChain& chain : chains) {
-    for (int index : chain.q_index) q[index] = previous[index];
+    for (size_t k = 0; k < chain.size(); ++k) {
+      double& joint = q[chain.q_index[k]];
+      if (consecutive) joint = previous[chain.q_index[k]];
+      else if (chain.branch[k] && joint <= chain.lower[k] + 1e-9) joint = chain.lower[k] + kBranchStart;
+    }
   }
 }
 
