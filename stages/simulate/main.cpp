@@ -51,6 +51,13 @@ int main(int argc, char** argv) {
   bool no_effort_limits = false;
   app.add_flag("--no-effort-limits", no_effort_limits,
                "Do not clamp joint torques to the URDF's effort limits (for diagnosis: what the limits cost)");
+  bool no_balance = false;
+  app.add_flag("--no-balance", no_balance,
+               "Ground mode: track the retargeted motion as it is, without leaning the body above the legs so that "
+               "its zero-moment point stays inside the feet (for diagnosis)");
+  app.add_option("--balance-gain", options.balance_gain,
+                 "Ground mode: rate (1/s) at which the capture point returns to the balance plan's")
+      ->capture_default_str();
   bool no_joint_limits = false;
   app.add_flag("--no-joint-limits", no_joint_limits,
                "Do not hold joints inside the URDF's position limits (for diagnosis: without them a straightening "
@@ -61,6 +68,7 @@ int main(int argc, char** argv) {
   app.parse_complete_callback([&] {
     options.controller.effort_limits = !no_effort_limits;
     options.controller.joint_limits = !no_joint_limits;
+    options.balance = !no_balance;
   });
   app.add_option("--targets", options.targets,
                  "kinematic: track the link poses of the retargeted q; landmarks: track the landmark targets "

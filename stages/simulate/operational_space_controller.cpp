@@ -12,6 +12,8 @@ namespace {
 constexpr int kLimitPasses = 3;
 // Rounds of re-solving the free torques after some clipped (see redistributeClippedTorque).
 constexpr int kClipRounds = 3;
+// Levels 0-1: the joint-limit walls and the centre of mass (ground mode; empty otherwise).
+constexpr int kCentreOfMassLevel = 1, kFirstTaskLevel = 2;
 
 // A joint with a limit within 0.2 rad of its zero: a knee (G1 −0.087 … 2.88 rad) or an elbow whose zero
 // is the straight limb, where the limit is the straight configuration and past it lies the mirrored
@@ -54,9 +56,9 @@ OperationalSpaceController::OperationalSpaceController(const Model& model, std::
   // One level per distinct priority, highest (smallest number) first.
   std::map<int, int> level_of_priority;
   for (const ControlledTask& task : tasks_) level_of_priority[task.priority] = 0;
-  int next_level = 1;  // level 0: the joint-limit walls
+  int next_level = kFirstTaskLevel;
   for (auto& [priority, level] : level_of_priority) level = next_level++;
-  std::vector<Eigen::Index> level_rows(level_of_priority.size() + 1, 0);
+  std::vector<Eigen::Index> level_rows(level_of_priority.size() + kFirstTaskLevel, 0);
   for (size_t i = 0; i < tasks_.size(); ++i) {
     const int level = level_of_priority[tasks_[i].priority];
     rows_.push_back({i, level, level_rows[static_cast<size_t>(level)]});
@@ -125,6 +127,16 @@ int OperationalSpaceController::calcTorques(Workspace& workspace, const std::vec
     posture_acceleration_.head<3>() += kp * OrientationError(target.normalized(), current.normalized().toRotationMatrix());
     posture_acceleration_.segment<3>(3) += kp * (posture.q.segment<3>(4) - q.segment<3>(4));
   }
+  workspace.calcInverseDynamics(zero_, bias_forces_);  // b(q, u) + g(q)
+  PriorityLevel& centre_of_mass = levels_[kCentreOfMassLevel];
+  const Eigen::Index rows = com_level_ ? static_cast<Eigen::Index>(base_velocities_.size()) : 0;
+  centre_of_mass.jacobian.resize(rows, workspace.model().nu());
+  centre_of_mass.acceleration.resize(rows);
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    const int i = base_velocities_[static_cast<size_t>(r)];
+    centre_of_mass.jacobian.row(r) = mass_.mass().row(i);
+    centre_of_mass.acceleration[r] = base_force_[r] - bias_forces_[i];
+  }
   active_limits_.clear();
   PriorityLevel& walls = levels_[0];
   walls.jacobian.resize(0, workspace.model().nu());
@@ -141,13 +153,21 @@ int OperationalSpaceController::calcTorques(Workspace& workspace, const std::vec
     }
     if (pass + 1 == kLimitPasses) hierarchy_.calcTorques(workspace, mass_, levels_, posture_acceleration_, tau);
   }
-  workspace.calcInverseDynamics(zero_, bias_forces_);  // b(q, u) + g(q)
   tau += bias_forces_;
   unclipped_ = tau;
   const int saturated = ClipToEffort(effort_limit_, tau);
   if (saturated > 0) redistributeClippedTorque(tau);
   return saturated;
 }
+
+void OperationalSpaceController::setCentreOfMassLevel(const std::vector<int>& base_velocities,
+                                                      const Eigen::VectorXd& base_force) {
+  base_velocities_ = base_velocities;
+  base_force_ = base_force;
+  com_level_ = true;
+}
+
+void OperationalSpaceController::clearCentreOfMassLevel() { com_level_ = false; }
 
 void OperationalSpaceController::calcAcceleration(const Eigen::VectorXd& tau, Eigen::VectorXd& udot) const {
   udot = tau - bias_forces_;

@@ -75,6 +75,12 @@ class OperationalSpaceController {
   // factor and the bias forces that call computed (what Workspace::calcForwardDynamics gives, to
   // rounding, without two more passes over the tree).
   void calcAcceleration(const Eigen::VectorXd& tau, Eigen::VectorXd& udot) const;
+  // Ground mode (BalanceController): a level above every task until cleared, the base's translational
+  // rows of the equations of motion, A_b u̇ = base_force − (b + g)_b over `base_velocities`: the centre of
+  // mass accelerates by the force the soles will push.
+  void setCentreOfMassLevel(const std::vector<int>& base_velocities, const Eigen::VectorXd& base_force);
+  void clearCentreOfMassLevel();
+
   // After calcTorques: A and b + g at its state.
   const Eigen::MatrixXd& massMatrix() const { return mass_.mass(); }
   const Eigen::VectorXd& biasForces() const { return bias_forces_; }
@@ -94,7 +100,10 @@ class OperationalSpaceController {
   ControllerOptions options_;
   std::vector<ControlledTask> tasks_;
   std::vector<TaskRows> rows_;
-  std::vector<PriorityLevel> levels_;
+  std::vector<PriorityLevel> levels_;  // walls, centre of mass, then the tasks' priorities
+  std::vector<int> base_velocities_;
+  Eigen::VectorXd base_force_;
+  bool com_level_ = false;
   PrioritizedControl hierarchy_;
   TreeMassFactorization mass_;  // A at the step's configuration, factored once for every A⁻¹ x
   bool free_base_;

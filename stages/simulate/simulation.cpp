@@ -8,6 +8,7 @@
 #include <Eigen/Cholesky>
 
 #include "common/error.h"
+#include "stages/simulate/balance_controller.h"
 #include "stages/simulate/contact_consistent_torques.h"
 #include "stages/simulate/ground_contact.h"
 
@@ -53,6 +54,19 @@ void MeasureErrors(Workspace& workspace, const std::vector<ControlledTask>& task
   }
 }
 
+// Ground mode starts with the motion's first frame moved vertically so its lowest sole point is on the
+// floor: a take that starts mid-stride may hold both feet a little above it (CMU 02_01: 2 cm), and the
+// robot would start by falling, out of the controller's reach, until a sole touched.
+void StandOnTheFloor(const Model& model, const RobotMap& map, Workspace& workspace, Eigen::VectorXd& q) {
+  workspace.setQ(q);
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const RobotFoot& foot : map.feet) {
+    const Eigen::Isometry3d pose = workspace.findLinkPose(model.findLinkIndex(foot.link));
+    for (const std::array<double, 3>& p : foot.sole_points) lowest = std::min(lowest, (pose * Eigen::Vector3d(p[0], p[1], p[2])).z());
+  }
+  if (std::isfinite(lowest)) q[6] -= lowest;  // a free base's z, after its quaternion
+}
+
 }  // namespace
 
 std::string_view ContactModeName(ContactMode mode) { return mode == ContactMode::kGround ? "ground" : "none"; }
@@ -72,6 +86,7 @@ bool SimulateOptions::IsValid(std::string* error) const {
   }
   const double damping = controller.hierarchy.damping;
   if (!(damping >= 0 && damping < 1)) return fail("--damping must be in [0, 1), got " + std::to_string(damping));
+  if (!(balance_gain >= 0 && balance_gain <= 1e3)) return fail("--balance-gain must be in [0, 1000] 1/s, got " + std::to_string(balance_gain));
   if (contact == ContactMode::kGround && integrator != Integrator::kSemiImplicitEuler) {
     return fail("--contact ground needs --integrator euler (the friction anchors move once per step)");
   }
@@ -89,7 +104,9 @@ nlohmann::json SimulateOptions::ToJson() const {
           {"limit_frequency", controller.limit_frequency},
           {"contact", std::string(ContactModeName(contact))},
           {"targets", std::string(TargetSourceName(targets))},
-          {"integrator", std::string(IntegratorName(integrator))}};
+          {"integrator", std::string(IntegratorName(integrator))},
+          {"no_balance", !balance},
+          {"balance_gain", balance_gain}};
 }
 
 std::string SimulateSummary::BriefReport() const {
@@ -111,6 +128,11 @@ std::string SimulateSummary::FullReport() const {
         << lowest_pelvis_ratio * 100 << " % of the reference's height, peak vertical force " << peak_vertical_force_n
         << " N; base wrench no sole force explains (RMS): " << unexplained_force_rms_n << " N, "
         << unexplained_torque_rms_nm << " N·m";
+    if (balance_corrected_frames >= 0) {
+      out << "\n  balance plan: the reference's zero-moment point moved into the feet in " << balance_corrected_frames
+          << " of " << frames << " frames, by up to " << balance_largest_zmp_correction_m * 1000
+          << " mm; the body above the legs shifted up to " << balance_largest_shift_m * 1000 << " mm";
+    }
   }
   out << "\n  " << message;
   return out.str();
@@ -129,7 +151,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   }
   const int nq = model.nq(), nu = model.nu();
   const std::vector<ControlledTask> tasks = BindTasks(map, model, input);
-  const TaskReferences references(input, model, tasks, options.targets);
+  TaskReferences references(input, model, tasks, options.targets);
   OperationalSpaceController controller(model, tasks, options.controller);
   const bool ground = options.contact == ContactMode::kGround;
   if (ground && !model.hasFreeBase()) {
@@ -153,11 +175,30 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       }
     }
   }
+  BalanceShift balance;
+  if (ground && options.balance) {
+    balance = PlanBalanceShift(input, model, map, BalanceOptions{});
+    references.shiftAboveLegs(balance, tasks);
+  }
+  std::optional<BalanceController> balance_controller;
+  if (ground && options.balance) {
+    BalanceControllerOptions balance_options;
+    balance_options.capture_gain = options.balance_gain;
+    balance_options.kp = options.controller.kp;
+    balance_options.kv = options.controller.kv;
+    balance_options.touch_height = kPlannedContactHeight;
+    balance_controller.emplace(model, map, balance, tasks, balance_options);
+  }
   std::vector<int64_t> planted(map.feet.size(), 0);
   FixedStepIntegrator integrator(model);
   Workspace workspace(model);
 
   SimulationResult result;
+  if (ground && options.balance) {
+    result.summary.balance_corrected_frames = balance.corrected_frames;
+    result.summary.balance_largest_zmp_correction_m = balance.largest_zmp_correction;
+    result.summary.balance_largest_shift_m = balance.largest_shift;
+  }
   MotionData& out = result.motion;
   SimulateSummary& summary = result.summary;
   out.time_s = input.time_s;
@@ -180,6 +221,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
 
   Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(input.q.data(), nq);
   Eigen::VectorXd u = Eigen::Map<const Eigen::VectorXd>(input.u.data(), nu);
+  if (ground) StandOnTheFloor(model, map, workspace, q);
   Eigen::VectorXd tau(nu), udot(nu), contact_forces(nu), applied(nu);
   Eigen::MatrixXd contact_stiffness(nu, nu), contact_damping(nu, nu), implicit_mass(nu, nu);
   Eigen::LDLT<Eigen::MatrixXd> implicit_solver(nu);
@@ -192,12 +234,13 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     workspace.setQ(q);
     workspace.setU(u);
     references.sample(frame, fraction, task_references, posture);
+    for (size_t f = 0; f < planted.size(); ++f) {
+      const int c = contact_column[f];
+      planted[f] = c < 0 ? 0 : input.contact[static_cast<size_t>(frame) * input.contact_feet.size() + static_cast<size_t>(c)];
+    }
+    if (balance_controller) balance_controller->apply(workspace, frame, fraction, planted.data(), task_references, controller);
     int saturated = controller.calcTorques(workspace, task_references, posture, tau);
     if (ground) {
-      for (size_t f = 0; f < planted.size(); ++f) {
-        const int c = contact_column[f];
-        planted[f] = c < 0 ? 0 : input.contact[static_cast<size_t>(frame) * input.contact_feet.size() + static_cast<size_t>(c)];
-      }
       saturated += distribution->apply(workspace, controller, planted.data(), tau);
       ground_contact->calcForces(workspace, contact_forces, contact_stiffness, contact_damping);
       // Linearly implicit in the contact forces: (A + h B + h² K) u̇ = τ + f − b − g − h K u, the step

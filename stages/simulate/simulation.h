@@ -34,6 +34,11 @@ struct SimulateOptions {
   // Semi-implicit Euler: one dynamics evaluation per step, what keeps the stage ≥ 10× real time; RK4 for
   // accuracy studies (4 evaluations).
   Integrator integrator = Integrator::kSemiImplicitEuler;
+  // Ground mode: lean the tasks above the legs so the reference's zero-moment point stays inside the
+  // feet (BalanceShift). Off is for diagnosis: the source's motion as retargeted.
+  bool balance = true;
+  // 1/s: how fast the capture point returns to the plan's (BalanceFeedback).
+  double balance_gain = 3.0;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;
@@ -58,6 +63,11 @@ struct SimulateSummary {
   double unexplained_force_rms_n = -1;
   double unexplained_torque_rms_nm = -1;
   double peak_vertical_force_n = -1;
+  // Ground mode with balance: the frames whose reference zero-moment point the plan moved into the feet,
+  // the largest such move and the largest shift of the body above the legs (m).
+  int64_t balance_corrected_frames = -1;
+  double balance_largest_zmp_correction_m = -1;
+  double balance_largest_shift_m = -1;
 
   std::string BriefReport() const;
   std::string FullReport() const;

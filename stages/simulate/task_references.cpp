@@ -70,6 +70,20 @@ TaskReferences::TaskReferences(const MotionData& motion, const Model& model, con
   }
 }
 
+void TaskReferences::shiftAboveLegs(const BalanceShift& shift, const std::vector<ControlledTask>& tasks) {
+  for (int64_t t = 0; t < frames_; ++t) {
+    const size_t frame = static_cast<size_t>(t);
+    for (size_t i = 0; i < task_count_; ++i) {
+      if (shift.leg_link[static_cast<size_t>(tasks[i].link)]) continue;
+      TaskReference& reference = references_[frame * task_count_ + i];
+      reference.position.head<2>() += shift.position[frame];
+      reference.velocity.segment<2>(3) += shift.velocity[frame];
+      reference.acceleration.segment<2>(3) += shift.acceleration[frame];
+    }
+  }
+  base_shift_ = &shift;
+}
+
 void TaskReferences::sample(int64_t frame, double fraction, std::vector<TaskReference>& tasks,
                             PostureReference& posture) const {
   tasks.resize(task_count_);
@@ -101,6 +115,14 @@ void TaskReferences::sample(int64_t frame, double fraction, std::vector<TaskRefe
   }
   posture.u = (1 - s) * row(motion_.u, frame, nu_) + s * row(motion_.u, next, nu_);
   posture.udot = (1 - s) * row(motion_.udot, frame, nu_) + s * row(motion_.udot, next, nu_);
+  if (free_base_ && base_shift_ != nullptr) {
+    const auto blend = [&](const std::vector<Eigen::Vector2d>& values) {
+      return ((1 - s) * values[static_cast<size_t>(frame)] + s * values[static_cast<size_t>(next)]).eval();
+    };
+    posture.q.segment<2>(4) += blend(base_shift_->position);
+    posture.u.segment<2>(3) += blend(base_shift_->velocity);
+    posture.udot.segment<2>(3) += blend(base_shift_->acceleration);
+  }
 }
 
 }  // namespace syn

@@ -23,6 +23,7 @@
 #include "common/model.h"
 #include "common/motion_file.h"
 #include "common/robot_map.h"
+#include "stages/simulate/balanced_reference.h"
 
 namespace syn {
 
@@ -59,6 +60,9 @@ class TaskReferences {
   TaskReferences(const MotionData& motion, const Model& model, const std::vector<ControlledTask>& tasks,
                  TargetSource source);
 
+  // Moves every task not on a leg, and the posture's base, by `shift` (ground mode's balance plan).
+  void shiftAboveLegs(const BalanceShift& shift, const std::vector<ControlledTask>& tasks);
+
   // At `fraction` ∈ [0, 1] of the way from frame `frame` to frame + 1 (fraction 0 at the last frame).
   void sample(int64_t frame, double fraction, std::vector<TaskReference>& tasks, PostureReference& posture) const;
 
@@ -71,6 +75,7 @@ class TaskReferences {
   bool free_base_ = false;
   std::vector<double> times_;
   std::vector<TaskReference> references_;  // [frame * task_count + task]
+  const BalanceShift* base_shift_ = nullptr;
   const MotionData& motion_;
 };
 

@@ -43,11 +43,11 @@ TEST(SimulateCli, NotAMotionFileFailsWithoutOutput) {
 }
 
 TEST(SimulateCli, PrintParametersGivesEveryFlag) {
-  const CommandResult result = RunCommandStdout(BinPath("syn-simulate") + " --print-parameters --kp 300 --no-effort-limits");
+  const CommandResult result = RunCommandStdout(BinPath("syn-simulate") + " --print-parameters --kp 300 --no-effort-limits --balance-gain 2");
   ASSERT_EQ(result.exit_code, 0);
   EXPECT_EQ(result.output,
-            "{\"contact\":\"none\",\"damping\":0.001,\"floating_base\":\"auto\",\"independence_cutoff\":0.7,"
-            "\"integrator\":\"euler\",\"kp\":300.0,\"kv\":25.0,\"limit_frequency\":100.0,\"no_effort_limits\":true,"
+            "{\"balance_gain\":2.0,\"contact\":\"none\",\"damping\":0.001,\"floating_base\":\"auto\",\"independence_cutoff\":0.7,"
+            "\"integrator\":\"euler\",\"kp\":300.0,\"kv\":25.0,\"limit_frequency\":100.0,\"no_balance\":false,\"no_effort_limits\":true,"
             "\"no_joint_limits\":false,\"rate\":1000.0,\"targets\":\"kinematic\"}\n");
 }
 

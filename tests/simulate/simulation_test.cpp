@@ -122,17 +122,25 @@ TEST(Simulate, SameInputsGiveIdenticalOutputs) {
 namespace syn {
 namespace {
 
-// Ground mode on a robot asked to stand: it stays up, its soles stay within 1 cm of the floor, and the
-// ground carries its weight (the feet's vertical forces sum to m g within 5 % once settled).
-TEST(Simulate, GroundModeStandingRobotStaysUpOnItsSoles) {
+// The ground-mode tests: G1 with its robot map, contact mode ground.
+class GroundMode : public ::testing::Test {
+ protected:
+  GroundMode() { options.contact = ContactMode::kGround; }
   const Model model = Model::Load(SourcePath(testing::kG1Urdf));
   const RobotMap map = LoadRobotMap(SourcePath("manifests/robots/g1.toml"));
-  const MotionData motion = testing::StandingMotion(model, map, 1.0);
   SimulateOptions options;
-  options.contact = ContactMode::kGround;
+};
+
+// Ground mode on a robot asked to stand: it stays up, its soles stay within 1 cm of the floor, the
+// ground carries its weight (the feet's vertical forces sum to m g within 5 % once settled), and the
+// balance controller keeps its posture (joint RMS under 0.5°; a version that also held the feet and
+// the angular momentum above the tasks left the wrists 31° off).
+TEST_F(GroundMode, StandingRobotStaysUpOnItsSoles) {
+  const MotionData motion = testing::StandingMotion(model, map, 1.0);
   const SimulationResult result = Simulate(motion, "standing", model, map, options);
   EXPECT_GT(result.summary.lowest_pelvis_ratio, 0.95);
   EXPECT_LT(result.summary.deepest_penetration_mm, 10.0);
+  EXPECT_LT(result.summary.joint_rms_deg, 0.5);
   const size_t feet = map.feet.size(), last = result.motion.time_s.size() - 1;
   double vertical = 0;
   for (size_t f = 0; f < feet; ++f) vertical += result.motion.contact_force[(last * feet + f) * 3 + 2];
@@ -146,12 +154,8 @@ TEST(Simulate, GroundModeStandingRobotStaysUpOnItsSoles) {
 // planned load by whichever vertex the non-negative fit landed on, the joint torques jumped with it
 // between steps (hip torques ±45 N·m), a toe slammed into the floor and the vertical force peaked at
 // 27 kN, 11.6 mm deep. The least-norm split keeps the forces near the weight.
-TEST(Simulate, GroundModeForcesStayNearTheWeightWhileTheArmsMove) {
-  const Model model = Model::Load(SourcePath(testing::kG1Urdf));
-  const RobotMap map = LoadRobotMap(SourcePath("manifests/robots/g1.toml"));
+TEST_F(GroundMode, ForcesStayNearTheWeightWhileTheArmsMove) {
   const MotionData motion = testing::StandingMotion(model, map, 1.0, 0.001);
-  SimulateOptions options;
-  options.contact = ContactMode::kGround;
   const SimulationResult result = Simulate(motion, "standing, arms bent", model, map, options);
   const double weight = model.totalMass() * 9.81;
   EXPECT_LT(result.summary.peak_vertical_force_n, 1.5 * weight);
@@ -162,14 +166,11 @@ TEST(Simulate, GroundModeForcesStayNearTheWeightWhileTheArmsMove) {
             << result.summary.joint_rms_deg << " deg\n";
 }
 
-// A robot that starts far below its reference (pelvis under 60 % of it) has fallen: the stage stops.
-TEST(Simulate, GroundModeReportsAFall) {
-  const Model model = Model::Load(SourcePath(testing::kG1Urdf));
-  const RobotMap map = LoadRobotMap(SourcePath("manifests/robots/g1.toml"));
-  MotionData motion = testing::StandingMotion(model, map, 0.2);
-  motion.q[6] *= 0.5;  // the first frame, where the simulation starts: half the reference's height
-  SimulateOptions options;
-  options.contact = ContactMode::kGround;
+// A standing robot shoved sideways at 3 m/s cannot catch itself without stepping: its capture point is
+// 0.8 m outside its feet. It falls (pelvis under 60 % of the reference's height) and the stage stops.
+TEST_F(GroundMode, ReportsAFall) {
+  MotionData motion = testing::StandingMotion(model, map, 2.0);
+  motion.u[4] = 3.0;  // the first frame's base velocity along y, where the simulation starts
   try {
     (void)Simulate(motion, "sunk", model, map, options);
     ADD_FAILURE() << "no fall reported";
@@ -181,3 +182,41 @@ TEST(Simulate, GroundModeReportsAFall) {
 }  // namespace
 }  // namespace syn
 
+
+namespace syn {
+namespace {
+
+// A take that starts with both soles above the floor (CMU 02_01 starts mid-stride 2 cm up) starts on
+// the floor: moved down until its lowest sole point touches, so the robot does not begin by falling.
+TEST_F(GroundMode, StartsOnTheFloor) {
+  MotionData motion = testing::StandingMotion(model, map, 0.1);
+  const double raised = 0.03;
+  for (size_t t = 0; t < motion.time_s.size(); ++t) motion.q[t * static_cast<size_t>(model.nq()) + 6] += raised;
+  const SimulationResult result = Simulate(motion, "raised", model, map, options);
+  EXPECT_NEAR(result.motion.q[6], motion.q[6] - raised, 1e-9);  // the first frame, lowered
+  // Its feet carry the weight from the first steps: the first recorded frames after the start touch.
+  const size_t feet = map.feet.size();
+  EXPECT_TRUE(result.motion.contact[feet] != 0 || result.motion.contact[feet + 1] != 0);
+}
+
+}  // namespace
+}  // namespace syn
+
+namespace syn {
+namespace {
+
+// Capture-point balance: a standing G1 shoved sideways at 0.5 m/s (its capture point 12 cm out, near
+// the outer edge of its foot at 15 cm) stands with the balance controller, which moves its zero-moment
+// point to that edge and its centre of mass back; tracking its pelvis by the paper's PD alone
+// (--no-balance), it falls at 1.2 s. (At 0.55 m/s both fall: it does not step.)
+TEST_F(GroundMode, BalanceCatchesASideShove) {
+  MotionData motion = testing::StandingMotion(model, map, 2.0);
+  motion.u[4] = 0.5;  // the first frame's base velocity along y
+  const SimulationResult result = Simulate(motion, "shoved", model, map, options);
+  EXPECT_GT(result.summary.lowest_pelvis_ratio, 0.95);
+  options.balance = false;
+  EXPECT_THROW((void)Simulate(motion, "shoved, no balance", model, map, options), DataError);
+}
+
+}  // namespace
+}  // namespace syn

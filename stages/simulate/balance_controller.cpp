@@ -1,0 +1,129 @@
+#include "stages/simulate/balance_controller.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace syn {
+namespace {
+
+// The largest share of the weight the vertical force may be planned at, and the least (a sole pushes,
+// it does not pull; a little load keeps the contact from bouncing off).
+constexpr double kMinVerticalShare = 0.2, kMaxVerticalShare = 3.0;
+
+}  // namespace
+
+BalanceController::BalanceController(const Model& model, const RobotMap& map, const BalanceShift& plan,
+                                     const std::vector<ControlledTask>& tasks, const BalanceControllerOptions& options)
+    : plan_(plan), options_(options), mass_(model.totalMass()), gravity_(model.gravity()) {
+  std::string base;
+  for (const ModelJoint& joint : model.joints()) {
+    if (joint.type == "free") base = joint.child;
+  }
+  base_link_ = base.empty() ? -1 : model.findLinkIndex(base);
+  for (size_t i = 0; i < tasks.size(); ++i) {
+    if (base_link_ >= 0 && tasks[i].link == base_link_ && tasks[i].type != TaskType::kOrientation) {
+      base_task_ = static_cast<int>(i);
+      break;
+    }
+  }
+  for (int v = 0; v < model.nu(); ++v) {
+    if (!model.actuatedVelocities()[static_cast<size_t>(v)]) base_velocities_.push_back(v);
+  }
+  for (const RobotFoot& foot : map.feet) {
+    foot_links_.push_back(model.findLinkIndex(foot.link));
+    sole_points_.emplace_back();
+    for (const std::array<double, 3>& p : foot.sole_points) sole_points_.back().emplace_back(p[0], p[1], p[2]);
+  }
+  touching_.resize(foot_links_.size());
+  standing_.assign(foot_links_.size(), false);
+  jacobian_.resize(6, model.nu());
+  // Which base velocities translate the base: their columns of its Jacobian have no angular part (a free
+  // joint's last three; a virtual chain's prismatic joints), at any configuration.
+  if (base_link_ >= 0) {
+    Workspace workspace(model);
+    workspace.setQ(model.defaultQ());
+    workspace.calcFrameJacobian(base_link_, Eigen::Vector3d::Zero(), jacobian_);
+    for (int v : base_velocities_) {
+      if (jacobian_.col(v).head<3>().norm() < 1e-12 && jacobian_.col(v).tail<3>().norm() > 0.5) {
+        translation_velocities_.push_back(v);
+      }
+    }
+  }
+  base_force_.resize(static_cast<Eigen::Index>(translation_velocities_.size()));
+}
+
+void BalanceController::apply(Workspace& workspace, int64_t frame, double fraction, const int64_t* planted,
+                              std::vector<TaskReference>& references, OperationalSpaceController& controller) {
+  const size_t a = static_cast<size_t>(frame);
+  const size_t b = std::min(a + 1, plan_.com.size() - 1);
+  const double s = fraction;
+  const auto blend2 = [&](const std::vector<Eigen::Vector2d>& values) { return ((1 - s) * values[a] + s * values[b]).eval(); };
+  const auto blend1 = [&](const std::vector<double>& values) { return (1 - s) * values[a] + s * values[b]; };
+  const Eigen::Vector2d com_plan = blend2(plan_.com), velocity_plan = blend2(plan_.com_velocity);
+  const Eigen::Vector2d acceleration_plan = blend2(plan_.com_acceleration), zmp_plan = blend2(plan_.zmp);
+  const double omega = 1.0 / std::sqrt(blend1(plan_.eta));
+  const Eigen::Vector3d com = workspace.findCenterOfMass();
+  const Eigen::Vector3d velocity = workspace.calcCentroidalMomentum().tail<3>() / mass_;
+  const Eigen::Vector2d capture_point = com.head<2>() + velocity.head<2>() / omega;
+
+  // The standing soles: the points on the floor of feet planted in the source; and of any other touching
+  // foot while the capture point lies outside those (CMU 02_01 lifted its trailing foot while the landing
+  // one touched only at its heel's corner, and the robot fell over that corner).
+  support_.clear();
+  for (size_t f = 0; f < foot_links_.size(); ++f) {
+    const Eigen::Isometry3d pose = workspace.findLinkPose(foot_links_[f]);
+    touching_[f].clear();
+    for (const Eigen::Vector3d& local : sole_points_[f]) {
+      const Eigen::Vector3d point = pose * local;
+      if (point.z() < options_.touch_height) touching_[f].emplace_back(point.x(), point.y());
+    }
+    standing_[f] = !touching_[f].empty() && planted[f] != 0;
+    if (standing_[f]) support_.insert(support_.end(), touching_[f].begin(), touching_[f].end());
+  }
+  bool captured = false;
+  if (!support_.empty()) {
+    ConvexHull(support_, hull_);
+    captured = (ClosestInPolygon(capture_point, hull_) - capture_point).squaredNorm() < 1e-12;
+  }
+  for (size_t f = 0; f < foot_links_.size() && !captured; ++f) {
+    if (!standing_[f]) support_.insert(support_.end(), touching_[f].begin(), touching_[f].end());
+  }
+  supported_ = !support_.empty() && base_link_ >= 0 && !translation_velocities_.empty();
+  if (!supported_) {
+    controller.clearCentreOfMassLevel();
+    return;
+  }
+  ConvexHull(support_, hull_);
+
+  // Horizontal: the capture point back to the plan's through a zmp the soles can push.
+  const Eigen::Vector2d capture_error = (com.head<2>() - com_plan) + (velocity.head<2>() - velocity_plan) / omega;
+  commanded_zmp_ = ClosestInPolygon(zmp_plan + (1 + options_.capture_gain / omega) * capture_error, hull_);
+  const Eigen::Vector2d horizontal =
+      acceleration_plan + omega * omega * ((com.head<2>() - com_plan) - (commanded_zmp_ - zmp_plan));
+  // Vertical: a PD on the plan's centre-of-mass height.
+  const double height_acceleration = blend1(plan_.com_height_acceleration) +
+                                     options_.kp * (blend1(plan_.com_height) - com.z()) +
+                                     options_.kv * (blend1(plan_.com_height_velocity) - velocity.z());
+  force_.z() = std::clamp(mass_ * (gravity_ + height_acceleration), kMinVerticalShare * mass_ * gravity_,
+                          kMaxVerticalShare * mass_ * gravity_);
+  force_.head<2>() = mass_ * horizontal;
+  const double tangential = force_.head<2>().norm(), cone = options_.friction * force_.z();
+  if (tangential > cone) force_.head<2>() *= cone / tangential;
+
+  // The generalized forces that force makes on the translating base velocities: their Jacobian columns
+  // (pure translations) dotted with it.
+  workspace.calcFrameJacobian(base_link_, Eigen::Vector3d::Zero(), jacobian_);
+  for (size_t i = 0; i < translation_velocities_.size(); ++i) {
+    base_force_[static_cast<Eigen::Index>(i)] = jacobian_.col(translation_velocities_[i]).tail<3>().dot(force_);
+  }
+  controller.setCentreOfMassLevel(translation_velocities_, base_force_);
+
+  if (base_task_ >= 0) {
+    TaskReference& reference = references[static_cast<size_t>(base_task_)];
+    reference.position.head<2>() = com.head<2>() + (reference.position.head<2>() - com_plan);
+    reference.velocity.segment<2>(3) = velocity.head<2>() + (reference.velocity.segment<2>(3) - velocity_plan);
+    reference.acceleration.segment<2>(3) = horizontal + (reference.acceleration.segment<2>(3) - acceleration_plan);
+  }
+}
+
+}  // namespace syn

@@ -1,0 +1,86 @@
+// `--contact ground`: the centre of mass moved only by forces the feet can push.
+//
+// The paper's controller plans generalized forces for every velocity, its driven base's six included.
+// On the ground those six must come from the soles, whose forces are unilateral, inside friction cones,
+// and whose centre of pressure stays under the feet: a zero-moment point (ZMP) inside the support
+// polygon. The paper's PD gains (kp 350) answer a 2 cm sideways error of the pelvis with 7 m/s², on a
+// 35 kg G1 a moment of 170 N·m about feet that can push about ±10 N·m: every small error became a
+// demand no contact met, the base "followed physics" and the robot tipped.
+//
+// So, as in momentum-based balance control (Lee & Goswami 2012; Koolen et al. 2016), a level ranks above
+// the paper's tasks in ground mode: the base's translational rows of the equations of motion,
+// A_b u̇ = F* − (b + g)_b, i.e. the centre of mass accelerates by F*/m − g, and F* is a force the soles
+// can push along a ZMP inside them:
+//   - horizontally m c̈*, from capture-point feedback on the balance plan (balanced_reference.h;
+//     Englsberger's divergent component of motion): ω = 1/√η, ξ = c + ċ/ω,
+//     p* = p_plan + (1 + k/ω)(ξ − ξ_plan) clamped into the standing soles' polygon,
+//     c̈* = c̈_plan + ω² ((c − c_plan) − (p* − p_plan)), scaled into the friction cone;
+//   - vertically m (g + z̈*), z̈* a PD on the plan's centre-of-mass height, kept in [0.2, 3] m g.
+// The standing soles: those of feet planted in the source, and of a touching foot the source lifts while
+// the capture point is still outside the planted feet's soles (a walk's trailing foot at heel-off, whose
+// toe still carries the robot). The angular momentum is left to the tasks: a level that also fixed its
+// rate (damped toward the plan's, clipped to the support) fought the arms, a standing G1's wrists ended
+// 31° off, and the walks fell no later.
+// The base task's horizontal target is rewritten to the measured centre of mass plus the reference's
+// offset of the base from it: its PD keeps the body's shape, the level moves it.
+// Where no sole touches (a jump, a fall), the level is cleared and the body moves ballistically.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/model.h"
+#include "common/robot_map.h"
+#include "stages/simulate/balanced_reference.h"
+#include "stages/simulate/operational_space_controller.h"
+#include "stages/simulate/task_references.h"
+
+namespace syn {
+
+struct BalanceControllerOptions {
+  double capture_gain = 3.0;    // k, 1/s: the capture point's error decays as e^(−kt) while p* is unclamped
+  double kp = 350.0;            // 1/s²: centre-of-mass height
+  double kv = 25.0;             // 1/s: its rate
+  double friction = 0.8;        // μ of the planned forces (the contact-force split's)
+  double touch_height = 0.002;  // m: a sole point this close to the floor supports (the planned forces')
+};
+
+class BalanceController {
+ public:
+  BalanceController(const Model& model, const RobotMap& map, const BalanceShift& plan,
+                    const std::vector<ControlledTask>& tasks, const BalanceControllerOptions& options);
+
+  // For the state the workspace holds (setQ, setU done) at `fraction` of the way from `frame` to the
+  // next, with `planted` [feet] the source's contact flags: sets the controller's centre-of-mass level and
+  // rewrites the base task's horizontal reference.
+  void apply(Workspace& workspace, int64_t frame, double fraction, const int64_t* planted,
+             std::vector<TaskReference>& references, OperationalSpaceController& controller);
+
+  // After apply: the zero-moment point asked for (x, y), the ground force planned (N), and whether any
+  // sole supported.
+  const Eigen::Vector2d& commandedZmp() const { return commanded_zmp_; }
+  const Eigen::Vector3d& plannedForce() const { return force_; }
+  bool supported() const { return supported_; }
+
+ private:
+  const BalanceShift& plan_;
+  BalanceControllerOptions options_;
+  double mass_, gravity_;
+  int base_task_ = -1;
+  int base_link_ = -1;
+  std::vector<int> base_velocities_;         // every unactuated velocity
+  std::vector<int> translation_velocities_;  // those that translate the base (rows of the level)
+  std::vector<int> foot_links_;
+  std::vector<std::vector<Eigen::Vector3d>> sole_points_;    // per foot, in its link frame
+  std::vector<std::vector<Eigen::Vector2d>> touching_;       // per foot, its sole points on the floor (x, y)
+  std::vector<bool> standing_;
+  std::vector<Eigen::Vector2d> support_, hull_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
+  Eigen::VectorXd base_force_;
+  Eigen::Vector2d commanded_zmp_ = Eigen::Vector2d::Zero();
+  Eigen::Vector3d force_ = Eigen::Vector3d::Zero();
+  bool supported_ = false;
+};
+
+}  // namespace syn

@@ -1,0 +1,82 @@
+// `--contact ground`: a reference the robot can balance on.
+//
+// A kinematic retarget copies the human's motion, not the robot's dynamics: on the CMU walks onto G1
+// the base wrench it needs lies outside what the soles can push in 76–91 % of frames (median moment
+// 41–115 N·m, a zero-moment point about 12 cm outside the feet). Tracked exactly, such a motion falls
+// over whatever the controller does. The paper's robot was driven at its base; one on the ground must
+// move its centre of mass differently from the human.
+//
+// Since the whole trial is known offline, the fix is planned before the simulation, as walking pattern
+// generators do (Kajita's preview control), with the retargeted motion's own dynamics:
+//  1. per frame, the zero-moment point p the reference needs (from its full inverse dynamics: arms,
+//     torso rotation and all, the base wrench smoothed over σ = 40 ms: the retargeted accelerations are a
+//     spline's through per-frame solutions and spike, 123 m/s² at a CMU walk's pelvis in its first
+//     frames) and the support polygon of its stance feet (their sole points near the floor; the feet the
+//     source plants or that are low and slow, else the lowest);
+//  2. where p lies outside the polygon shrunk by `margin`, the ZMP shift Δp that brings it inside;
+//  3. the horizontal centre-of-mass shift Δc that produces Δp. With the centre of mass at height z and
+//     vertical ground force F_z, the linear inverted pendulum gives Δp = Δc − η Δc̈, η = m z / F_z. Its
+//     bounded solution is Δp convolved with e^(−|t|/√η) / (2√η): the robot leans before it needs to
+//     (preview), not after. On the frames: the least-squares Δc of (I − η D²) Δc ≈ Δp starting from
+//     rest (Δc = 0 in the first two frames, as the simulation starts from the motion's own state), a
+//     banded system solved in O(frames).
+// The controller then tracks every task above the legs (pelvis, torso, head, hands) shifted by
+// Δc / α, where α is the fraction of Δc a rigid shift of the body above the hips gives (the legs, whose
+// feet stay put, follow half-way): the robot leans, its feet and its posture as the source's; and the
+// plan's centre of mass, zero-moment point and momentum are what BalanceController steers to.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/model.h"
+#include "common/motion_file.h"
+#include "common/robot_map.h"
+
+namespace syn {
+
+struct BalanceOptions {
+  // m: how far inside the support polygon the planned zero-moment point stays (room for the
+  // controller's feedback; G1's sole is 6 cm wide).
+  double margin = 0.01;
+  // s: σ of the Gaussian the reference's base wrench is smoothed with before its zero-moment point is
+  // taken (a step lasts about 0.5 s).
+  double smoothing = 0.04;
+};
+
+struct BalanceShift {
+  // Per frame, the horizontal shift of the tasks above the legs (x, y in ground, m) and its first two
+  // time derivatives.
+  std::vector<Eigen::Vector2d> position, velocity, acceleration;
+  // Per frame, the centre of mass the plan gives (the reference's plus the shift's share α): its
+  // horizontal position, velocity and acceleration; the zero-moment point it plans (inside `support`);
+  // η = m z / F_z; and the support polygon (shrunk by the margin; empty when no foot is near the floor).
+  std::vector<Eigen::Vector2d> com, com_velocity, com_acceleration, zmp;
+  std::vector<double> eta;
+  // The reference's centre-of-mass height, its rate and acceleration (m, m/s, m/s²), and its angular
+  // momentum about the centre of mass and that momentum's rate (the smoothed moment), ground frame.
+  std::vector<double> com_height, com_height_velocity, com_height_acceleration;
+  std::vector<Eigen::Vector3d> angular_momentum, angular_momentum_rate;
+  std::vector<std::vector<Eigen::Vector2d>> support;
+  // Every link on a foot's chain up to (not including) the base: tasks there are not shifted.
+  std::vector<bool> leg_link;
+  // Diagnostics: frames whose reference ZMP lay outside the shrunk support, the largest ZMP correction
+  // and the largest shift (m).
+  int64_t corrected_frames = 0;
+  double largest_zmp_correction = 0;
+  double largest_shift = 0;
+};
+
+// Counter-clockwise convex hull of `points` (sorted in place); 1 or 2 points for a degenerate set.
+void ConvexHull(std::vector<Eigen::Vector2d>& points, std::vector<Eigen::Vector2d>& hull);
+
+// The point of the convex polygon `hull` (counter-clockwise; 1 or 2 points for a point or a segment)
+// nearest to p: p itself when inside.
+[[nodiscard]] Eigen::Vector2d ClosestInPolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& hull);
+
+// The shift for `motion` (q, u, udot; contact flags if it has them) on `model` with `map`'s feet.
+[[nodiscard]] BalanceShift PlanBalanceShift(const MotionData& motion, const Model& model, const RobotMap& map,
+                                            const BalanceOptions& options);
+
+}  // namespace syn
