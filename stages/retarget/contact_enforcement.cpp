@@ -212,16 +212,18 @@ std::vector<std::vector<Eigen::Isometry3d>> FreePoses(const std::vector<SoleGeom
 // Consecutive frames' legs are solved from the previous frame's answer: where joint limits leave a target
 // out of reach, several leg configurations come equally close, and a start taken from the tracked motion
 // let the solution jump between them (a 0.9 rad hip-yaw step in one frame of CMU 60_10).
-// A leg with no previous answer (a take's first frame) whose knee the tracked motion left straight on its
-// floor starts bent instead: the leg solver keeps a straight knee straight (there the foot cannot move
-// along the leg), and CMU 07_01's first frame kept its right foot 14 cm off target, the next frames
-// bending the knee at its speed limit while the planted foot slid.
-void ContinueLegs(const std::vector<LegChain>& chains, const Eigen::VectorXd& previous, bool consecutive, Eigen::VectorXd& q) {
+// With `first` (the final legs' first solved frame, which has no previous answer), a knee the tracked
+// motion left straight on its floor starts bent instead: the leg solver keeps a straight knee straight
+// (there the foot cannot move along the leg), and CMU 07_01's first frame kept its right foot 14 cm off
+// target, the next frames bending the knee at its speed limit while the planted foot slid. (Bending every
+// non-consecutive start, the reach pass's too, moved HRP-4C's legs onto other answers mid-take.)
+void ContinueLegs(const std::vector<LegChain>& chains, const Eigen::VectorXd& previous, bool consecutive, bool first,
+                  Eigen::VectorXd& q) {
   for (const LegChain& chain : chains) {
     for (size_t k = 0; k < chain.size(); ++k) {
       double& joint = q[chain.q_index[k]];
       if (consecutive) joint = previous[chain.q_index[k]];
-      else if (chain.branch[k] && joint <= chain.lower[k] + 1e-9) joint = chain.lower[k] + kBranchStart;
+      else if (first && chain.branch[k] && joint <= chain.lower[k] + 1e-9) joint = chain.lower[k] + kBranchStart;
     }
   }
 }
@@ -356,7 +358,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       }
       if (!any) continue;
       frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
-      ContinueLegs(chains, previous, t - 1 == previous_frame, frame_q);
+      ContinueLegs(chains, previous, t - 1 == previous_frame, false, frame_q);
       solver.solve(workspace, frame_targets, active, frame_q, options.stance_knee);
       previous = frame_q, previous_frame = t;
       for (size_t f = 0; f < foot_count; ++f) {
@@ -391,7 +393,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     if (!any) continue;
     frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
     if (drop > 1e-9) frame_q[vertical_coordinate] -= drop;
-    ContinueLegs(chains, previous, t - 1 == previous_frame, frame_q);
+    ContinueLegs(chains, previous, t - 1 == previous_frame, previous_frame < 0, frame_q);
     for (size_t f = 0; f < foot_count; ++f) {
       frame_targets[f] = target[f][static_cast<size_t>(t)];
       active[f] = drop > 1e-9 || changed[f][static_cast<size_t>(t)];

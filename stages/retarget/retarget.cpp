@@ -23,10 +23,6 @@
 namespace syn {
 namespace {
 
-// s: the span of a take's start that SolveStartBackwards re-solves (the first frames' transient lasted
-// up to 6 frames, 50 ms, on the CMU walks and dances; a quarter second leaves room).
-constexpr double kStartSpan = 0.25;
-
 // Frames with no target at all kept the previous solution; interpolate them
 // between their neighbours when the gap is short, refuse when it is not.
 void BridgeGaps(const Model& model, const std::vector<double>& time_s, const std::vector<int64_t>& bridged,
@@ -269,31 +265,6 @@ MotionData EmptyMotion(const Model& model, const MarkerData& capture, const Land
   return motion;
 }
 
-// The take's first frames solved again backwards, each warm-started from the frame after it and bounded
-// by the joints' speeds from there. The forward pass starts from the posture stance, far from the first
-// frame's answer, and however often that frame is re-solved it may settle on another local answer (CMU
-// 12_01, 60_12, 10_04: legs nearly straight under a high pelvis); the next frames then travel to the
-// settled answer at the joints' speed limits (knees 0.15 -> 1.0 rad in 5 frames). From the settled end
-// the same frames are a continuation of the motion. Skipped when a frame in the span is bridged.
-void SolveStartBackwards(int64_t frames, int64_t nq, const RetargetOptions& options, const std::vector<int64_t>& bridged,
-                         const std::vector<std::vector<IkTarget>>& frame_targets, FrameIk& ik, MotionData& motion,
-                         RetargetSummary& report) {
-  int64_t settled = 0;
-  while (settled + 1 < frames && motion.time_s[static_cast<size_t>(settled)] - motion.time_s[0] < kStartSpan) ++settled;
-  if (settled == 0) return;
-  for (int64_t t : bridged) {
-    if (t <= settled) return;
-  }
-  Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(&motion.q[static_cast<size_t>(settled * nq)], nq);
-  ik.forgetHistory();
-  for (int64_t t = settled - 1; t >= 0; --t) {
-    const double step_time = options.velocity_limit_scale * (motion.time_s[static_cast<size_t>(t + 1)] - motion.time_s[static_cast<size_t>(t)]);
-    report.mean_ik_iterations += ik.solve(frame_targets[static_cast<size_t>(t)], q, step_time).iterations;
-    std::copy(q.data(), q.data() + nq, motion.q.begin() + t * nq);
-  }
-  ik.forgetHistory();
-}
-
 // Per-frame IK over the whole capture, each frame warm-started from the previous one. Frames with no
 // target keep the previous solution and are listed in `bridged`; `frame_targets` keeps what each solved
 // frame tracked, for the refinement.
@@ -331,7 +302,6 @@ void SolveFrames(const LandmarkTrajectories& landmarks, const TrackedTasks& task
     }
     std::copy(q.data(), q.data() + nq, motion.q.begin() + t * nq);
   }
-  SolveStartBackwards(frames, nq, options, bridged, frame_targets, ik, motion, report);
   report.mean_ik_iterations /= static_cast<double>(std::max<int64_t>(1, frames - static_cast<int64_t>(bridged.size())));
 }
 
