@@ -15,19 +15,12 @@ constexpr double kMinVerticalShare = 0.2, kMaxVerticalShare = 3.0;
 BalanceController::BalanceController(const Model& model, const RobotMap& map, const BalanceShift& plan,
                                      const std::vector<ControlledTask>& tasks, const BalanceControllerOptions& options)
     : plan_(plan), options_(options), mass_(model.totalMass()), gravity_(model.gravity()) {
-  std::string base;
-  for (const ModelJoint& joint : model.joints()) {
-    if (joint.type == "free") base = joint.child;
-  }
-  base_link_ = base.empty() ? -1 : model.findLinkIndex(base);
+  base_link_ = FreeBaseLink(model);
   for (size_t i = 0; i < tasks.size(); ++i) {
     if (base_link_ >= 0 && tasks[i].link == base_link_ && tasks[i].type != TaskType::kOrientation) {
       base_task_ = static_cast<int>(i);
       break;
     }
-  }
-  for (int v = 0; v < model.nu(); ++v) {
-    if (!model.actuatedVelocities()[static_cast<size_t>(v)]) base_velocities_.push_back(v);
   }
   for (const RobotFoot& foot : map.feet) {
     foot_links_.push_back(model.findLinkIndex(foot.link));
@@ -43,7 +36,8 @@ BalanceController::BalanceController(const Model& model, const RobotMap& map, co
     Workspace workspace(model);
     workspace.setQ(model.defaultQ());
     workspace.calcFrameJacobian(base_link_, Eigen::Vector3d::Zero(), jacobian_);
-    for (int v : base_velocities_) {
+    for (int v = 0; v < model.nu(); ++v) {
+      if (model.actuatedVelocities()[static_cast<size_t>(v)]) continue;
       if (jacobian_.col(v).head<3>().norm() < 1e-12 && jacobian_.col(v).tail<3>().norm() > 0.5) {
         translation_velocities_.push_back(v);
       }
@@ -88,8 +82,7 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
   for (size_t f = 0; f < foot_links_.size() && !captured; ++f) {
     if (!standing_[f]) support_.insert(support_.end(), touching_[f].begin(), touching_[f].end());
   }
-  supported_ = !support_.empty() && base_link_ >= 0 && !translation_velocities_.empty();
-  if (!supported_) {
+  if (support_.empty() || base_link_ < 0 || translation_velocities_.empty()) {
     controller.clearCentreOfMassLevel();
     return;
   }
@@ -97,24 +90,25 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
 
   // Horizontal: the capture point back to the plan's through a zmp the soles can push.
   const Eigen::Vector2d capture_error = (com.head<2>() - com_plan) + (velocity.head<2>() - velocity_plan) / omega;
-  commanded_zmp_ = ClosestInPolygon(zmp_plan + (1 + options_.capture_gain / omega) * capture_error, hull_);
+  const Eigen::Vector2d commanded_zmp = ClosestInPolygon(zmp_plan + (1 + options_.capture_gain / omega) * capture_error, hull_);
   const Eigen::Vector2d horizontal =
-      acceleration_plan + omega * omega * ((com.head<2>() - com_plan) - (commanded_zmp_ - zmp_plan));
+      acceleration_plan + omega * omega * ((com.head<2>() - com_plan) - (commanded_zmp - zmp_plan));
   // Vertical: a PD on the plan's centre-of-mass height.
   const double height_acceleration = blend1(plan_.com_height_acceleration) +
                                      options_.kp * (blend1(plan_.com_height) - com.z()) +
                                      options_.kv * (blend1(plan_.com_height_velocity) - velocity.z());
-  force_.z() = std::clamp(mass_ * (gravity_ + height_acceleration), kMinVerticalShare * mass_ * gravity_,
+  Eigen::Vector3d force;
+  force.z() = std::clamp(mass_ * (gravity_ + height_acceleration), kMinVerticalShare * mass_ * gravity_,
                           kMaxVerticalShare * mass_ * gravity_);
-  force_.head<2>() = mass_ * horizontal;
-  const double tangential = force_.head<2>().norm(), cone = options_.friction * force_.z();
-  if (tangential > cone) force_.head<2>() *= cone / tangential;
+  force.head<2>() = mass_ * horizontal;
+  const double tangential = force.head<2>().norm(), cone = options_.friction * force.z();
+  if (tangential > cone) force.head<2>() *= cone / tangential;
 
   // The generalized forces that force makes on the translating base velocities: their Jacobian columns
   // (pure translations) dotted with it.
   workspace.calcFrameJacobian(base_link_, Eigen::Vector3d::Zero(), jacobian_);
   for (size_t i = 0; i < translation_velocities_.size(); ++i) {
-    base_force_[static_cast<Eigen::Index>(i)] = jacobian_.col(translation_velocities_[i]).tail<3>().dot(force_);
+    base_force_[static_cast<Eigen::Index>(i)] = jacobian_.col(translation_velocities_[i]).tail<3>().dot(force);
   }
   controller.setCentreOfMassLevel(translation_velocities_, base_force_);
 

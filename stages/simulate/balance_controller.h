@@ -57,20 +57,13 @@ class BalanceController {
   void apply(Workspace& workspace, int64_t frame, double fraction, const int64_t* planted,
              std::vector<TaskReference>& references, OperationalSpaceController& controller);
 
-  // After apply: the zero-moment point asked for (x, y), the ground force planned (N), and whether any
-  // sole supported.
-  const Eigen::Vector2d& commandedZmp() const { return commanded_zmp_; }
-  const Eigen::Vector3d& plannedForce() const { return force_; }
-  bool supported() const { return supported_; }
-
  private:
   const BalanceShift& plan_;
   BalanceControllerOptions options_;
   double mass_, gravity_;
   int base_task_ = -1;
   int base_link_ = -1;
-  std::vector<int> base_velocities_;         // every unactuated velocity
-  std::vector<int> translation_velocities_;  // those that translate the base (rows of the level)
+  std::vector<int> translation_velocities_;  // the unactuated velocities that translate the base (the level's rows)
   std::vector<int> foot_links_;
   std::vector<std::vector<Eigen::Vector3d>> sole_points_;    // per foot, in its link frame
   std::vector<std::vector<Eigen::Vector2d>> touching_;       // per foot, its sole points on the floor (x, y)
@@ -78,9 +71,6 @@ class BalanceController {
   std::vector<Eigen::Vector2d> support_, hull_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
   Eigen::VectorXd base_force_;
-  Eigen::Vector2d commanded_zmp_ = Eigen::Vector2d::Zero();
-  Eigen::Vector3d force_ = Eigen::Vector3d::Zero();
-  bool supported_ = false;
 };
 
 }  // namespace syn

@@ -27,8 +27,6 @@ constexpr double kMinVerticalShare = 0.3;
 // The least-squares plan's weight on the shift itself (per m², against zmp errors per m²).
 constexpr double kShiftWeight = 1e-6;
 
-using Vector6d = Eigen::Matrix<double, 6, 1>;
-
 // Each sample replaced by its Gaussian-weighted mean over the samples within 3σ (σ in seconds).
 void SmoothInTime(const std::vector<double>& time, double sigma, std::vector<Vector6d>& values) {
   if (!(sigma > 0)) return;
@@ -50,6 +48,13 @@ void SmoothInTime(const std::vector<double>& time, double sigma, std::vector<Vec
 double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 }  // namespace
+
+int FreeBaseLink(const Model& model) {
+  for (const ModelJoint& joint : model.joints()) {
+    if (joint.type == "free") return model.findLinkIndex(joint.child);
+  }
+  return -1;
+}
 
 // Andrew's monotone chain.
 void ConvexHull(std::vector<Eigen::Vector2d>& points, std::vector<Eigen::Vector2d>& hull) {
@@ -120,10 +125,8 @@ void Shrink(std::vector<Eigen::Vector2d>& hull, double margin) {
 // feet, follow half-way.
 double LegLinks(const Model& model, const RobotMap& map, std::vector<bool>& leg_link) {
   leg_link.assign(model.linkNames().size(), false);
-  std::string base;
-  for (const ModelJoint& joint : model.joints()) {
-    if (joint.type == "free") base = joint.child;
-  }
+  const int base_link = FreeBaseLink(model);
+  const std::string base = base_link >= 0 ? model.linkNames()[static_cast<size_t>(base_link)] : std::string();
   std::vector<std::string> legs;
   for (const RobotFoot& foot : map.feet) {
     std::string link = foot.link;
@@ -293,7 +296,7 @@ BalanceShift PlanBalanceShift(const MotionData& motion, const Model& model, cons
     const Eigen::Vector2d correction = hulls[t].empty() ? Eigen::Vector2d::Zero() : Eigen::Vector2d(ClosestInPolygon(zmp, hulls[t]) - zmp);
     if (correction.squaredNorm() > 0) ++shift.corrected_frames;
     shift.largest_zmp_correction = std::max(shift.largest_zmp_correction, correction.norm());
-    shift.zmp[t] = zmp + correction;
+    shift.zmp[t] = zmp;  // the reference's; the plan's below
     correction_x[t] = correction.x();
     correction_y[t] = correction.y();
   }
@@ -310,8 +313,7 @@ BalanceShift PlanBalanceShift(const MotionData& motion, const Model& model, cons
     shift.largest_shift = std::max(shift.largest_shift, shift.position[i].norm());
     // The zmp the plan realises: the reference's moved by x − η D² x (near the clamped one, not equal to it
     // where the start from rest or the least squares leave a difference).
-    shift.zmp[i] += Eigen::Vector2d(x[i], y[i]) - eta[i] * alpha * shift.acceleration[i] -
-                    Eigen::Vector2d(correction_x[i], correction_y[i]);
+    shift.zmp[i] += Eigen::Vector2d(x[i], y[i]) - eta[i] * alpha * shift.acceleration[i];
   }
   for (size_t i = 0; i < n; ++i) {
     const size_t before = i > 0 ? i - 1 : i, after = i + 1 < n ? i + 1 : i;

@@ -176,12 +176,10 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     }
   }
   BalanceShift balance;
+  std::optional<BalanceController> balance_controller;
   if (ground && options.balance) {
     balance = PlanBalanceShift(input, model, map, BalanceOptions{});
     references.shiftAboveLegs(balance, tasks);
-  }
-  std::optional<BalanceController> balance_controller;
-  if (ground && options.balance) {
     BalanceControllerOptions balance_options;
     balance_options.capture_gain = options.balance_gain;
     balance_options.kp = options.controller.kp;

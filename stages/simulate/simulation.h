@@ -37,7 +37,7 @@ struct SimulateOptions {
   // Ground mode: lean the tasks above the legs so the reference's zero-moment point stays inside the
   // feet (BalanceShift). Off is for diagnosis: the source's motion as retargeted.
   bool balance = true;
-  // 1/s: how fast the capture point returns to the plan's (BalanceFeedback).
+  // 1/s: how fast the capture point returns to the plan's (BalanceController).
   double balance_gain = 3.0;
 
   bool IsValid(std::string* error) const;

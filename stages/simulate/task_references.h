@@ -27,8 +27,6 @@
 
 namespace syn {
 
-using Vector6d = Eigen::Matrix<double, 6, 1>;
-
 enum class TargetSource { kKinematic, kLandmarks };
 [[nodiscard]] std::string_view TargetSourceName(TargetSource source);
 
