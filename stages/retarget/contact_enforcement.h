@@ -32,6 +32,11 @@
 //    `lowering_smoothing` seconds so that the lowering is never less than needed
 //    (a running maximum, then two box filters of half that width). The upper
 //    body moves down with the base.
+// 3b. Pelvis. Where a planted foot is still out of its leg's reach from the
+//    lowered pelvis (a leg joint on its limit: a dancer turning on one foot
+//    further than the robot's hip allows), the pelvis turns and shifts by the
+//    least amount with which every planted leg reaches its plant, smoothed in
+//    time; the upper body moves with it. Only a free base moves so.
 // 4. Legs. Each frame whose foot targets differ from where the lowered robot
 //    puts its feet is solved exactly for those feet by the leg chains
 //    (leg_chain.h), every other joint unchanged, each leg joint within its
@@ -68,6 +73,11 @@ struct ContactEnforcementOptions {
   double max_lowering = 0.2;        // of the straight leg
   double lowering_smoothing = 0.2;  // s: 0.1 s bobbed the pelvis every step (bundled walk on the human model 4.0 W/kg; 3.7 at 0.2)
   bool roll_with_source = false;    // planted feet pitch with the source about their heel or toe edge
+  // Where a planted foot is out of its leg's reach from the tracked pelvis (a leg joint on its limit), the
+  // pelvis moves, by the least rotation and translation that lets every planted leg reach its plant
+  // (step 3b), smoothed over `base_smoothing` seconds as the lowering is.
+  bool move_base_for_plants = true;
+  double base_smoothing = 0.1;      // s
   // Leg joints move at most this fraction of their URDF velocity limit per frame (the stage's
   // --velocity-limit-scale; 0: unbounded): a foot the leg cannot follow that fast falls short (reported)
   // instead of the leg jumping to another configuration (a knee 0.96 rad in one frame of CMU 05_11).
@@ -98,6 +108,9 @@ struct ContactEnforcementReport {
   int64_t rolled_foot_frames = 0;       // foot-frames rolled about a sole edge (a joint limit pitched the foot)
   int64_t lifted_frames = 0;            // frames with a foot lifted onto its lowest sole point (its leg at a limit)
   int64_t raised_frames = 0;            // of those, frames whose base rose too (the leg could not lift the foot)
+  int64_t base_moved_frames = 0;        // frames whose pelvis moved so that a planted leg reaches its plant
+  double max_base_turn = 0.0;           // rad: the largest such rotation
+  double max_base_shift = 0.0;          // m: the largest such translation
   // The legs' joints against their URDF velocity limits over the result (each frame's step from the one
   // before): joint-frames over the limit, the largest speed / limit, and where (coordinate, frame).
   int64_t overspeed_joint_frames = 0;

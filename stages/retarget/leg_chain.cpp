@@ -85,7 +85,10 @@ LegChain FindLegChain(const Model& model, Workspace& workspace, const std::strin
 }
 
 LegSolver::LegSolver(std::vector<LegChain> chains, const LegSolveOptions& options)
-    : chains_(std::move(chains)), options_(options), reached_(chains_.size(), Eigen::Isometry3d::Identity()) {
+    : chains_(std::move(chains)),
+      options_(options),
+      reached_(chains_.size(), Eigen::Isometry3d::Identity()),
+      roots_(chains_.size(), Eigen::Isometry3d::Identity()) {
   size_t widest = 0, longest = 0;
   for (const LegChain& chain : chains_) widest = std::max(widest, chain.size()), longest = std::max(longest, chain.path.size());
   saved_.resize(widest);
@@ -138,16 +141,26 @@ double LegSolver::poseError(const Eigen::Isometry3d& target, const Eigen::Isomet
 LegSolveResult LegSolver::solve(Workspace& workspace, const std::vector<Eigen::Isometry3d>& targets,
                                 const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor,
                                 const Eigen::VectorXd* previous, double dt, const std::vector<bool>* unbounded) {
+  workspace.setQ(q);
+  for (size_t c = 0; c < chains_.size(); ++c) {
+    if (active[c]) roots_[c] = workspace.findLinkPose(chains_[c].root_link);
+  }
+  return solveFromRoots(roots_, targets, active, q, branch_floor, previous, dt, unbounded);
+}
+
+LegSolveResult LegSolver::solveFromRoots(const std::vector<Eigen::Isometry3d>& roots,
+                                         const std::vector<Eigen::Isometry3d>& targets, const std::vector<bool>& active,
+                                         Eigen::VectorXd& q, double branch_floor, const Eigen::VectorXd* previous,
+                                         double dt, const std::vector<bool>* unbounded) {
   LegSolveResult result;
   Eigen::Matrix<double, 6, 1> error, trial_error;
   ChainMatrix normal, damped;
   ChainVector gradient, step;
   ChainJacobian jacobian, trial_jacobian;
-  workspace.setQ(q);
   for (size_t c = 0; c < chains_.size(); ++c) {
     if (!active[c]) continue;
     const LegChain& chain = chains_[c];
-    const Eigen::Isometry3d root = workspace.findLinkPose(chain.root_link);
+    const Eigen::Isometry3d& root = roots[c];
     const Eigen::Index n = static_cast<Eigen::Index>(chain.size());
     const bool speed_bound = previous && dt > 0 && !(unbounded && (*unbounded)[c]);
     for (size_t k = 0; k < chain.size(); ++k) {

@@ -85,8 +85,19 @@ class LegSolver {
                        const Eigen::VectorXd* previous = nullptr, double dt = 0.0,
                        const std::vector<bool>* unbounded = nullptr);
 
+  // solve with each chain's root-link pose given (`roots`, one per chain) instead of read from a realised
+  // workspace: for a caller that moves the base many times per frame (contact_enforcement's base correction).
+  LegSolveResult solveFromRoots(const std::vector<Eigen::Isometry3d>& roots, const std::vector<Eigen::Isometry3d>& targets,
+                                const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor = 0.0,
+                                const Eigen::VectorXd* previous = nullptr, double dt = 0.0,
+                                const std::vector<bool>* unbounded = nullptr);
+
   // Where the last solve left chain c's foot link (ground frame): valid for the chains that solve had active.
   const Eigen::Isometry3d& reached(size_t c) const { return reached_[c]; }
+
+  // The weighted 6-D pose error the solver minimises, (angle_scale × rotation vector, translation), and its
+  // squared norm.
+  double poseError(const Eigen::Isometry3d& target, const Eigen::Isometry3d& pose, Eigen::Matrix<double, 6, 1>& error) const;
 
  private:
   using ChainMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxLegJoints, kMaxLegJoints>;
@@ -96,12 +107,10 @@ class LegSolver {
   // Chain c's foot pose at q from its root link's pose, and (when `jacobian`) the foot origin's 6 × n
   // Jacobian in the chain's joints, rows (angular, linear) with the angular ones scaled by angle_scale.
   Eigen::Isometry3d footPose(size_t c, const Eigen::Isometry3d& root, const Eigen::VectorXd& q, ChainJacobian* jacobian) const;
-  // The weighted 6-D pose error, (angle_scale × rotation vector, translation), and its squared norm.
-  double poseError(const Eigen::Isometry3d& target, const Eigen::Isometry3d& pose, Eigen::Matrix<double, 6, 1>& error) const;
-
   std::vector<LegChain> chains_;
   LegSolveOptions options_;
   std::vector<Eigen::Isometry3d> reached_;
+  std::vector<Eigen::Isometry3d> roots_;  // solve's root-link poses, read from the workspace
   // The joints' world frames during footPose (fixed capacity: no allocation per solve).
   mutable std::vector<Eigen::Vector3d> joint_axis_, joint_position_;
   std::vector<double> saved_, lower_, upper_;  // per chain joint, for the solve under way

@@ -115,6 +115,14 @@ int main(int argc, char** argv) {
                  "(a walk's first frame is mid-stride; false: from the reference frame, as a calibration frame or "
                  "--reference-time always is)")
       ->capture_default_str();
+  app.add_option("--move-base-for-plants", options.enforcement.move_base_for_plants,
+                 "Where a planted foot is out of its leg's reach from the tracked pelvis (a leg joint on its limit), "
+                 "turn and shift the pelvis by the least amount that lets the planted legs reach (the upper body moves "
+                 "with it; a free base only). false: the foot falls short and slides")
+      ->capture_default_str();
+  app.add_option("--base-smoothing", options.enforcement.base_smoothing,
+                 "Half-width (s) of the smoothing of the pelvis moves --move-base-for-plants makes")
+      ->capture_default_str();
   app.add_option("--roll-with-source", options.enforcement.roll_with_source,
                  "Planted feet pitch with the source about their heel or toe edge (heel strike, toe-off) instead of "
                  "staying flat; the sole centre then moves with the roll")

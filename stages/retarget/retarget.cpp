@@ -647,6 +647,7 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"contact_blend", enforcement.blend}, {"stance_knee", enforcement.stance_knee},
           {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing},
           {"roll_with_source", enforcement.roll_with_source}, {"contacts_above_speed", enforcement.contacts_above_speed},
+          {"move_base_for_plants", enforcement.move_base_for_plants}, {"base_smoothing", enforcement.base_smoothing},
           {"heading_from_pelvis", heading_from_pelvis}, {"proportions", !proportions_per_chain ? "map" : *proportions_per_chain ? "chains" : "height"},
           {"friction", contact_forces.friction}, {"neutral_reference", neutral_reference}};
 }
@@ -670,7 +671,9 @@ std::string RetargetSummary::BriefReport() const {
     if (contacts_enforced) {
       out << "; contacts enforced: " << enforcement.solved_frames << " frames' legs re-solved ("
           << enforcement.mean_iterations << " iterations), base lowered up to " << enforcement.max_lowering * 1000
-          << " mm (" << enforcement.lowered_frames << " frames), " << enforcement.unreachable_frames
+          << " mm (" << enforcement.lowered_frames << " frames), pelvis moved for a plant in "
+          << enforcement.base_moved_frames << " frames (up to " << enforcement.max_base_turn * 180 / M_PI << " deg, "
+          << enforcement.max_base_shift * 1000 << " mm), " << enforcement.unreachable_frames
           << " frames out of reach, worst foot error " << enforcement.worst_position_error * 1000 << " mm / "
           << enforcement.worst_angle_error * 180 / M_PI << " deg, " << enforcement.rolled_foot_frames
           << " foot-frames rolled onto a sole edge, " << enforcement.lifted_frames

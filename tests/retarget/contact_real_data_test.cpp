@@ -187,7 +187,7 @@ std::string WriteMarkers(const MarkerData& data, const std::string& path) {
 // 17's floor and skating bounds.
 struct SweepResult {
   std::vector<double> drift;
-  int floor_met = 0, skating_met = 0;
+  int floor_met = 0, skating_met = 0, drift_met = 0;  // trials within each of issue 17's bounds
 };
 
 SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
@@ -197,7 +197,7 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
   std::vector<double> all_drift;
   std::fprintf(stderr, "%-10s %-7s %6s %8s %8s %8s %8s %8s %8s\n", "trial", "robot", "frames", "pen>1cm%", "deepest",
                "drift50", "drift95", "skate", "source");
-  int trials = 0, floor_met = 0, skating_met = 0;
+  int trials = 0, floor_met = 0, skating_met = 0, drift_met = 0;
   double all_penetrating = 0, all_frames = 0;
   for (const std::string& file : CmuTrials({"walk", "dance"})) {
     SCOPED_TRACE(file + " onto " + robot.name);
@@ -218,6 +218,7 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
     ExpectSummaryMatches(summary, check);
     floor_met += check.penetrating_fraction <= 0.01;
     skating_met += check.robot_skating <= check.source_skating + 0.05;
+    drift_met += Quantile(check.drift, 0.5) <= 0.010 && Quantile(check.drift, 0.95) <= 0.025;
     all_drift.insert(all_drift.end(), check.drift.begin(), check.drift.end());
     all_penetrating += check.penetrating_fraction * static_cast<double>(check.frames);
     all_frames += static_cast<double>(check.frames);
@@ -231,10 +232,11 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
   std::fprintf(stderr, "%s: frames with a sole point > 1 cm below the floor: %.1f %% of %.0f\n", robot.name.c_str(),
                100 * all_penetrating / all_frames, all_frames);
   std::fprintf(stderr, "%s: %d of %d trials with at most 1 %% of frames more than 1 cm below the floor, %d with skating "
-               "within the source's + 0.05\n", robot.name.c_str(), floor_met, trials, skating_met);
+               "within the source's + 0.05, %d with stance drift within 10 mm median and 25 mm p95\n", robot.name.c_str(),
+               floor_met, trials, skating_met, drift_met);
   EXPECT_EQ(trials, 32);  // the walk and dance rows of index.csv (quoted labels hold commas)
   std::filesystem::remove_all(dir);
-  return {all_drift, floor_met, skating_met};
+  return {all_drift, floor_met, skating_met, drift_met};
 }
 
 TEST(RetargetContacts, DemoWalkOntoG1ReportsWhatAnIndependentFkMeasures) {
@@ -270,20 +272,64 @@ TEST(RetargetContacts, DemoWalkOntoG1ReportsWhatAnIndependentFkMeasures) {
   EXPECT_LE(check.robot_skating, check.source_skating + 0.05);
 }
 
+// A dancer turning on one foot further than the G1's hip allows (CMU 05_02, frames 725-812: the hip roll on
+// its -0.52 rad limit, the ankle pitch on -0.87): with the pelvis held where the tracking put it, the planted
+// left foot slid 41 mm and turned 30°; contacts rank above the pelvis task, so the pelvis moves instead.
+TEST(RetargetContacts, PelvisMovesWhereAPlantedLegCannotReach) {
+  SYN_REQUIRE_SHARED("cmu_bvh/05/05_02.bvh");
+  const Robot robot = G1();
+  const std::string dir = std::filesystem::temp_directory_path() / ("syn_pelvis_plant_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  IngestOptions ingest;
+  ingest.drop_first_frame = true;
+  const std::string markers =
+      WriteMarkers(IngestCapture(testing::SharedPath("cmu_bvh/05/05_02.bvh"), ingest, nullptr), dir + "/dance.markers.h5");
+  const testing::IndependentFk fk(robot.urdf);
+  ContactCheck held, moved;
+  RetargetSummary held_summary, moved_summary;
+  for (const bool move : {false, true}) {
+    RetargetOptions options;
+    options.model = robot.urdf;
+    options.robot_map = robot.map;
+    options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
+    options.enforcement.move_base_for_plants = move;
+    RetargetSummary& summary = move ? moved_summary : held_summary;
+    const MotionData motion = RetargetFile(markers, options, &summary);
+    (move ? moved : held) = CheckContacts(motion, robot, fk, true);
+    ExpectSummaryMatches(summary, move ? moved : held);
+  }
+  std::filesystem::remove_all(dir);
+  std::fprintf(stderr, "05_02 onto G1, pelvis held: drift median/p95 %.1f/%.1f mm; moved: %.1f/%.1f mm (%s)\n",
+               1000 * Quantile(held.drift, 0.5), 1000 * Quantile(held.drift, 0.95), 1000 * Quantile(moved.drift, 0.5),
+               1000 * Quantile(moved.drift, 0.95), moved_summary.BriefReport().c_str());
+  // Held, a plant slides past issue 17's bound (the test shows the case is one); moved, every plant is within it.
+  EXPECT_GT(Quantile(held.drift, 0.95), 0.025);
+  EXPECT_EQ(held_summary.enforcement.base_moved_frames, 0);
+  EXPECT_GT(moved_summary.enforcement.base_moved_frames, 0);
+  EXPECT_LE(Quantile(moved.drift, 0.5), 0.010);
+  EXPECT_LE(Quantile(moved.drift, 0.95), 0.025);
+  EXPECT_LE(moved.penetrating_fraction, 0.01);
+  EXPECT_LE(moved.robot_skating, moved.source_skating + 0.05);
+}
+
 TEST(RetargetContacts, EveryCmuWalkAndDanceOntoG1) {
 #ifdef SYN_SANITIZED_BUILD
   GTEST_SKIP() << "the real-data contact sweep runs in the Release test run, not under the sanitizers";
 #endif
   SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
   const SweepResult result = CheckEveryWalkAndDance(G1(), true);
-  // Issue 17 asks for every trial; today all 32 meet the floor bound (a foot its leg's limits leave in the
-  // floor stands on its lowest sole point) and 29 the skating one: the misses are a run and floor-level dances
-  // (05_11, 08_07, 94_07; see the issue note). Guarded a trial below today's counts, so that a different
+  // Issue 17 asks for every trial. Measured 2026-11-26 (the pelvis moved where a planted leg cannot reach):
+  // all 32 meet the floor bound (a foot its leg's limits leave in the floor stands on its lowest sole point),
+  // 30 the skating one (08_07 0.861 against 0.855, 94_07 0.559 against 0.559) and 30 the drift bounds
+  // (05_11: its last phase runs to the take's end, 57 mm; 94_07: a pivot in a deep squat no G1 ankle
+  // follows, 131 mm). Before: 32, 30 and 27. Guarded a trial below today's counts, so that a different
   // machine's rounding on a borderline trial does not fail it, and the stance drift over all phases held to
-  // the issue's median bound.
+  // the issue's median bound and its p95 (10.9 mm today, 20.0 before the pelvis moved).
   EXPECT_GE(result.floor_met, 31);
-  EXPECT_GE(result.skating_met, 28);
+  EXPECT_GE(result.skating_met, 29);
+  EXPECT_GE(result.drift_met, 29);
   EXPECT_LE(Quantile(result.drift, 0.5), 0.010);
+  EXPECT_LE(Quantile(result.drift, 0.95), 0.025);
 }
 
 TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
