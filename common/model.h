@@ -83,6 +83,7 @@ class Model {
   // Every URDF link, including links merged into their parent by fixed joints.
   const std::vector<std::string>& linkNames() const;
   int findLinkIndex(const std::string& link_name) const;  // -1 if absent
+  int freeBaseLink() const;  // the link the added free joint carries (the pelvis), -1 without a free base
   const std::vector<ModelJoint>& joints() const;         // file order, plus the free base first if added
   const std::vector<std::string>& warnings() const;      // what the URDF needed forgiving ("file:line: ...")
   const std::vector<std::string>& notes() const;         // how it was read, for -v (a floating root joint taken as the free base)

@@ -312,6 +312,13 @@ int Model::findLinkIndex(const std::string& link_name) const {
   return -1;
 }
 
+int Model::freeBaseLink() const {
+  for (const ModelJoint& joint : impl_->joints) {
+    if (joint.type == "free") return findLinkIndex(joint.child);
+  }
+  return -1;
+}
+
 // ---- Workspace ------------------------------------------------------------------
 
 // The state's q and u are views into one contiguous array; copy in bulk when

@@ -299,13 +299,6 @@ void ApplyToBase(const Vector6d& correction, Eigen::VectorXd& frame_q, Eigen::Ve
   Integrate(ConfigurationShape::Of(true, static_cast<int>(frame_q.size())), from.data(), velocity.data(), frame_q.data());
 }
 
-int FreeBaseLinkOf(const Model& model) {
-  for (const ModelJoint& joint : model.joints()) {
-    if (joint.type == "free") return model.findLinkIndex(joint.child);
-  }
-  return -1;
-}
-
 // Two box filters over ±w frames: a triangle-weighted mean, so the pelvis turns into and out of a
 // correction over about 2w frames instead of jumping.
 std::vector<Vector6d> SmoothCorrections(const std::vector<Vector6d>& need, int64_t w) {
@@ -340,7 +333,7 @@ std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, 
   const int64_t nq = model.nq(), frames = static_cast<int64_t>(lowering.size());
   const size_t foot_count = chains.size();
   std::vector<Vector6d> total(static_cast<size_t>(frames), Vector6d::Zero());
-  const int base_link = FreeBaseLinkOf(model);
+  const int base_link = model.freeBaseLink();
   if (base_link < 0 || contacts.feet == 0) return total;
   std::vector<Vector6d> need(static_cast<size_t>(frames));
   std::vector<bool> planted(foot_count);

@@ -15,7 +15,7 @@ constexpr double kMinVerticalShare = 0.2, kMaxVerticalShare = 3.0;
 BalanceController::BalanceController(const Model& model, const RobotMap& map, const BalanceShift& plan,
                                      const std::vector<ControlledTask>& tasks, const BalanceControllerOptions& options)
     : plan_(plan), options_(options), mass_(model.totalMass()), gravity_(model.gravity()) {
-  base_link_ = FreeBaseLink(model);
+  base_link_ = model.freeBaseLink();
   for (size_t i = 0; i < tasks.size(); ++i) {
     if (base_link_ >= 0 && tasks[i].link == base_link_ && tasks[i].type != TaskType::kOrientation) {
       base_task_ = static_cast<int>(i);

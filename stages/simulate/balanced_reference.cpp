@@ -49,13 +49,6 @@ double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() 
 
 }  // namespace
 
-int FreeBaseLink(const Model& model) {
-  for (const ModelJoint& joint : model.joints()) {
-    if (joint.type == "free") return model.findLinkIndex(joint.child);
-  }
-  return -1;
-}
-
 // Andrew's monotone chain.
 void ConvexHull(std::vector<Eigen::Vector2d>& points, std::vector<Eigen::Vector2d>& hull) {
   std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -125,7 +118,7 @@ void Shrink(std::vector<Eigen::Vector2d>& hull, double margin) {
 // feet, follow half-way.
 double LegLinks(const Model& model, const RobotMap& map, std::vector<bool>& leg_link) {
   leg_link.assign(model.linkNames().size(), false);
-  const int base_link = FreeBaseLink(model);
+  const int base_link = model.freeBaseLink();
   const std::string base = base_link >= 0 ? model.linkNames()[static_cast<size_t>(base_link)] : std::string();
   std::vector<std::string> legs;
   for (const RobotFoot& foot : map.feet) {

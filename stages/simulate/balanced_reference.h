@@ -38,9 +38,6 @@ namespace syn {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;  // (angular, linear), or (moment, force)
 
-// The link a free base moves (the added free joint's child), -1 for a model without one.
-[[nodiscard]] int FreeBaseLink(const Model& model);
-
 struct BalanceOptions {
   // m: how far inside the support polygon the planned zero-moment point stays (room for the
   // controller's feedback; G1's sole is 6 cm wide).
