@@ -229,24 +229,32 @@ void ContinueLegs(const std::vector<LegChain>& chains, const Eigen::VectorXd& pr
   }
 }
 
+// Two box filters over ±w frames (a triangle-weighted mean over ±2w), in place; `zero` is Value's zero.
+template <typename Value>
+void BoxFilterTwice(std::vector<Value>& values, int64_t w, const Value& zero) {
+  const int64_t frames = static_cast<int64_t>(values.size());
+  std::vector<Value> box(values.size(), zero);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int64_t t = 0; t < frames; ++t) {
+      const int64_t a = std::max<int64_t>(0, t - w), b = std::min(frames - 1, t + w);
+      Value sum = zero;
+      for (int64_t s = a; s <= b; ++s) sum += values[static_cast<size_t>(s)];
+      box[static_cast<size_t>(t)] = sum / static_cast<double>(b - a + 1);
+    }
+    values.swap(box);
+  }
+}
+
 // A running maximum over ±2w frames, then two box filters over ±w: smooth, and nowhere below `need`.
 std::vector<double> SmoothUpperEnvelope(const std::vector<double>& need, int64_t w) {
   const int64_t frames = static_cast<int64_t>(need.size());
-  std::vector<double> envelope(need.size()), box(need.size());
+  std::vector<double> envelope(need.size());
   for (int64_t t = 0; t < frames; ++t) {
     double most = 0;
     for (int64_t s = std::max<int64_t>(0, t - 2 * w); s <= std::min(frames - 1, t + 2 * w); ++s) most = std::max(most, need[static_cast<size_t>(s)]);
     envelope[static_cast<size_t>(t)] = most;
   }
-  for (int pass = 0; pass < 2; ++pass) {
-    for (int64_t t = 0; t < frames; ++t) {
-      const int64_t a = std::max<int64_t>(0, t - w), b = std::min(frames - 1, t + w);
-      double sum = 0;
-      for (int64_t s = a; s <= b; ++s) sum += envelope[static_cast<size_t>(s)];
-      box[static_cast<size_t>(t)] = sum / static_cast<double>(b - a + 1);
-    }
-    envelope.swap(box);
-  }
+  BoxFilterTwice(envelope, w, 0.0);
   return envelope;
 }
 
@@ -282,39 +290,16 @@ void MeasureOverspeed(const Model& model, const std::vector<LegChain>& chains, c
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;  // a base correction: rotation vector, translation (ground frame)
 
-// The base pose after a correction: R = exp(ω) R0, p = p0 + v, as configuration_space.h integrates a free base.
-Eigen::Isometry3d Corrected(const Eigen::Isometry3d& base, const Vector6d& correction) {
-  Eigen::Isometry3d moved = base;
-  const double angle = correction.head<3>().norm();
-  if (angle > 0) moved.linear() = Eigen::AngleAxisd(angle, correction.head<3>() / angle).toRotationMatrix() * base.linear();
-  moved.translation() += correction.tail<3>();
-  return moved;
-}
-
-// frame_q's free base moved by the correction.
-void ApplyToBase(const Vector6d& correction, Eigen::VectorXd& frame_q, Eigen::VectorXd& velocity) {
+// frame_q's free base moved by the correction (R = exp(ω) R0, p = p0 + v: what Apply does to a pose);
+// `from` and `velocity` are the caller's scratch (nq, nu).
+void ApplyToBase(const Vector6d& correction, Eigen::VectorXd& frame_q, Eigen::VectorXd& from, Eigen::VectorXd& velocity) {
   velocity.setZero();
   velocity.head<6>() = correction;
-  const Eigen::VectorXd from = frame_q;
+  from = frame_q;
   Integrate(ConfigurationShape::Of(true, static_cast<int>(frame_q.size())), from.data(), velocity.data(), frame_q.data());
 }
 
-// Two box filters over ±w frames: a triangle-weighted mean, so the pelvis turns into and out of a
-// correction over about 2w frames instead of jumping.
-std::vector<Vector6d> SmoothCorrections(const std::vector<Vector6d>& need, int64_t w) {
-  const int64_t frames = static_cast<int64_t>(need.size());
-  std::vector<Vector6d> smoothed = need, box(need.size());
-  for (int pass = 0; pass < 2; ++pass) {
-    for (int64_t t = 0; t < frames; ++t) {
-      const int64_t a = std::max<int64_t>(0, t - w), b = std::min(frames - 1, t + w);
-      Vector6d sum = Vector6d::Zero();
-      for (int64_t s = a; s <= b; ++s) sum += smoothed[static_cast<size_t>(s)];
-      box[static_cast<size_t>(t)] = sum / static_cast<double>(b - a + 1);
-    }
-    smoothed.swap(box);
-  }
-  return smoothed;
-}
+Correction AsCorrection(const Vector6d& correction) { return {correction.tail<3>(), correction.head<3>()}; }
 
 constexpr double kPlantPositionTolerance = 1e-3;  // m: a planted foot this close to its plant needs no base move
 constexpr double kPlantAngleTolerance = 0.5 * M_PI / 180.0;
@@ -338,7 +323,7 @@ std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, 
   std::vector<Vector6d> need(static_cast<size_t>(frames));
   std::vector<bool> planted(foot_count);
   std::vector<Eigen::Isometry3d> relative(foot_count), roots(foot_count), frame_targets(foot_count);
-  Eigen::VectorXd frame_q(nq), legs(nq), velocity(model.nu()), previous_legs(nq);
+  Eigen::VectorXd frame_q(nq), legs(nq), velocity(model.nu()), previous_legs(nq), scratch_q(nq);
   Eigen::Matrix<double, 6, 1> error;
   Eigen::VectorXd residual, trial;
   Eigen::MatrixXd jacobian;
@@ -359,13 +344,15 @@ std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, 
       if (rows == 0) continue;
       frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
       if (vertical_coordinate >= 0) frame_q[vertical_coordinate] -= lowering[static_cast<size_t>(t)];
-      ApplyToBase(total[static_cast<size_t>(t)], frame_q, velocity);
+      ApplyToBase(total[static_cast<size_t>(t)], frame_q, scratch_q, velocity);
       workspace.setQ(frame_q);
       const Eigen::Isometry3d base = workspace.findLinkPose(base_link);
       for (size_t f = 0; f < foot_count; ++f) relative[f] = base.inverse() * workspace.findLinkPose(chains[f].root_link);
+      // The planted legs' pose errors (LegSolver::poseError, stacked) with the base moved by `correction`,
+      // the legs solved from frame_q's; `reached` and `legs` say where they got. Returns the LM cost.
       bool reached = true;
       const auto evaluate = [&](const Vector6d& correction, Eigen::VectorXd& r) {
-        const Eigen::Isometry3d moved = Corrected(base, correction);
+        const Eigen::Isometry3d moved = Apply(AsCorrection(correction), base);
         for (size_t f = 0; f < foot_count; ++f) roots[f] = moved * relative[f];
         legs = frame_q;
         solver.solveFromRoots(roots, frame_targets, planted, legs, 0.0);
@@ -381,25 +368,19 @@ std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, 
         }
         return r.squaredNorm() + kPrior * correction.squaredNorm();
       };
-      // The legs start from the tracked ones in every evaluation (not from the previous frame's answer, as
-      // the final solves do): on CMU 94_07's pivots in a deep squat a previous answer on a hip-yaw limit held
-      // the leg there, and the corrections it asked for left the plants further off (drift p95 38 -> 140 mm).
-      // A plant the previous frame's legs reach without a move needs none (from a straight tracked knee a
-      // solve stops short where the final solves, which continue from the previous frame, reach: CMU 02_01's
-      // pelvis moved in 154 frames for nothing).
+      // Where to start the legs. A plant the previous frame's legs reach without a move needs none: the final
+      // solves continue from the previous frame, and from a straight tracked knee a solve stops short where
+      // they reach (CMU 02_01's pelvis moved in 154 frames for nothing). But the search starts from the
+      // tracked legs: from a previous answer held on a hip-yaw limit, CMU 94_07's deep-squat pivots asked for
+      // moves that left its plants further off.
       Vector6d correction = Vector6d::Zero();
       double cost = evaluate(correction, residual);
       if (!reached && t - 1 == previous_frame) {
-        const Eigen::VectorXd tracked_legs = frame_q;
+        scratch_q = frame_q;
         ContinueLegs(chains, previous_legs, true, false, frame_q);
         evaluate(correction, trial);
-        frame_q = tracked_legs;
-        if (reached) {
-          previous_legs = legs, previous_frame = t;
-          continue;
-        }
+        frame_q = scratch_q;
       }
-      const auto remember = [&] { evaluate(correction, residual), previous_legs = legs, previous_frame = t; };
       if (reached) {
         previous_legs = legs, previous_frame = t;
         continue;
@@ -407,21 +388,20 @@ std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, 
       double damping = 1e-4;
       jacobian.resize(rows, 6);
       for (int iteration = 0; iteration < kIterations && !reached; ++iteration) {
-        const Eigen::VectorXd at = residual;
         for (int i = 0; i < 6; ++i) {
           Vector6d nudged = correction;
           nudged[i] += kStep;
           evaluate(nudged, trial);
-          jacobian.col(i) = (trial - at) / kStep;
+          jacobian.col(i) = (trial - residual) / kStep;
         }
         const Eigen::Matrix<double, 6, 6> normal = jacobian.transpose() * jacobian;
-        const Vector6d gradient = jacobian.transpose() * at + kPrior * correction;
+        const Vector6d gradient = jacobian.transpose() * residual + kPrior * correction;
         bool improved = false;
         for (int attempt = 0; attempt < 6 && !improved; ++attempt) {
           Eigen::Matrix<double, 6, 6> damped = normal;
           damped.diagonal().array() += damping + kPrior;
           const Vector6d candidate = correction - damped.ldlt().solve(gradient);
-          const double candidate_cost = evaluate(candidate, trial);
+          const double candidate_cost = evaluate(candidate, trial);  // last: `reached` and `legs` are its
           if (candidate_cost < cost) {
             improved = true, cost = candidate_cost, correction = candidate, residual = trial;
             damping = std::max(damping / 3.0, 1e-9);
@@ -430,15 +410,16 @@ std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, 
           }
         }
         if (!improved) break;
-        evaluate(correction, residual);  // `reached` for the accepted correction
       }
-      remember();
+      evaluate(correction, residual);  // the legs at the correction taken, for the next frame's start
+      previous_legs = legs, previous_frame = t;
       out = correction;
       any = true;
     }
     if (!any) break;
-    const std::vector<Vector6d> smoothed = SmoothCorrections(need, half_width);
-    for (int64_t t = 0; t < frames; ++t) total[static_cast<size_t>(t)] += smoothed[static_cast<size_t>(t)];
+    // Smoothed like the lowering, so the pelvis turns into and out of a move instead of jumping.
+    BoxFilterTwice(need, half_width, Vector6d::Zero().eval());
+    for (int64_t t = 0; t < frames; ++t) total[static_cast<size_t>(t)] += need[static_cast<size_t>(t)];
   }
   return total;
 }
@@ -550,7 +531,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       options.move_base_for_plants
           ? BaseCorrections(model, workspace, solver, chains, contacts, target, lowering, vertical_coordinate, base_half_width, q)
           : std::vector<Vector6d>(static_cast<size_t>(frames), Vector6d::Zero());
-  Eigen::VectorXd base_velocity(model.nu());
+  Eigen::VectorXd base_velocity(model.nu()), base_scratch(nq);
 
   int64_t iterations = 0;
   std::vector<bool> retry(foot_count), planted(foot_count, false);
@@ -568,7 +549,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
     if (drop > 1e-9) frame_q[vertical_coordinate] -= drop;
     if (base_moved) {
-      ApplyToBase(moved, frame_q, base_velocity);
+      ApplyToBase(moved, frame_q, base_scratch, base_velocity);
       ++out.base_moved_frames;
       out.max_base_turn = std::max(out.max_base_turn, moved.head<3>().norm());
       out.max_base_shift = std::max(out.max_base_shift, moved.tail<3>().norm());

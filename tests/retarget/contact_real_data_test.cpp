@@ -183,6 +183,23 @@ std::string WriteMarkers(const MarkerData& data, const std::string& path) {
   return path;
 }
 
+// A shared CMU BVH (a path under cmu_bvh/) written as a markers file at `path`, its T-pose frame dropped
+// (syn-ingest --drop-first-frame) unless it is an excerpt, which has none.
+std::string CmuMarkers(const std::string& file, const std::string& path) {
+  IngestOptions ingest;
+  ingest.drop_first_frame = file.find("_excerpt") == std::string::npos;
+  return WriteMarkers(IngestCapture(testing::SharedPath("cmu_bvh/" + file), ingest, nullptr), path);
+}
+
+// A CMU BVH capture onto `robot`, every other option the stage's default.
+RetargetOptions CmuOptions(const Robot& robot) {
+  RetargetOptions options;
+  options.model = robot.urdf;
+  options.robot_map = robot.map;
+  options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
+  return options;
+}
+
 // Over every CMU walk and dance: the stance drift of every contact phase (m), and how many trials meet issue
 // 17's floor and skating bounds.
 struct SweepResult {
@@ -201,16 +218,9 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
   double all_penetrating = 0, all_frames = 0;
   for (const std::string& file : CmuTrials({"walk", "dance"})) {
     SCOPED_TRACE(file + " onto " + robot.name);
-    IngestOptions ingest;
-    ingest.drop_first_frame = file.find("_excerpt") == std::string::npos;
-    const std::string markers =
-        WriteMarkers(IngestCapture(testing::SharedPath("cmu_bvh/" + file), ingest, nullptr), dir + "/capture.markers.h5");
-    RetargetOptions options;
-    options.model = robot.urdf;
-    options.robot_map = robot.map;
-    options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
+    const std::string markers = CmuMarkers(file, dir + "/capture.markers.h5");
     RetargetSummary summary;  // contacts enforced, heading from the pelvis: the defaults
-    const MotionData motion = RetargetFile(markers, options, &summary);
+    const MotionData motion = RetargetFile(markers, CmuOptions(robot), &summary);
     const ContactCheck check = CheckContacts(motion, robot, fk, free_base);
     ++trials;
     // What the stage reports is what an independent FK measures on its output (the issue's thresholds are
@@ -244,14 +254,8 @@ TEST(RetargetContacts, DemoWalkOntoG1ReportsWhatAnIndependentFkMeasures) {
   const Robot robot = G1();
   const std::string dir = std::filesystem::temp_directory_path() / ("syn_demo_contacts_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  IngestOptions ingest;
-  ingest.drop_first_frame = true;
-  const std::string markers =
-      WriteMarkers(IngestCapture(testing::SharedPath("cmu_bvh/02/02_01.bvh"), ingest, nullptr), dir + "/walk.markers.h5");
-  RetargetOptions options;
-  options.model = robot.urdf;
-  options.robot_map = robot.map;
-  options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
+  const std::string markers = CmuMarkers("02/02_01.bvh", dir + "/walk.markers.h5");
+  RetargetOptions options = CmuOptions(robot);
   options.enforce_contacts = true;
   options.heading_from_pelvis = true;
   RetargetSummary summary;
@@ -280,18 +284,12 @@ TEST(RetargetContacts, PelvisMovesWhereAPlantedLegCannotReach) {
   const Robot robot = G1();
   const std::string dir = std::filesystem::temp_directory_path() / ("syn_pelvis_plant_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  IngestOptions ingest;
-  ingest.drop_first_frame = true;
-  const std::string markers =
-      WriteMarkers(IngestCapture(testing::SharedPath("cmu_bvh/05/05_02.bvh"), ingest, nullptr), dir + "/dance.markers.h5");
+  const std::string markers = CmuMarkers("05/05_02.bvh", dir + "/dance.markers.h5");
   const testing::IndependentFk fk(robot.urdf);
   ContactCheck held, moved;
   RetargetSummary held_summary, moved_summary;
   for (const bool move : {false, true}) {
-    RetargetOptions options;
-    options.model = robot.urdf;
-    options.robot_map = robot.map;
-    options.markerset = testing::SourcePath("manifests/markersets/cmu-bvh.toml");
+    RetargetOptions options = CmuOptions(robot);
     options.enforcement.move_base_for_plants = move;
     RetargetSummary& summary = move ? moved_summary : held_summary;
     const MotionData motion = RetargetFile(markers, options, &summary);
