@@ -186,9 +186,12 @@ void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>&
 }
 
 // Each foot's pose outside contact (contact_enforcement.h, step 0).
+// `level`: how far the source was moved down (0 where nothing was).
 std::vector<std::vector<Eigen::Isometry3d>> FreePoses(const std::vector<SoleGeometry>& soles, const FootContacts& contacts,
                                                       const std::vector<std::vector<Eigen::Isometry3d>>& tracked,
-                                                      const std::vector<std::vector<Eigen::Isometry3d>>& source_feet) {
+                                                      const std::vector<std::vector<Eigen::Isometry3d>>& source_feet,
+                                                      double& level) {
+  level = 0.0;
   if (source_feet.size() != tracked.size()) return tracked;
   std::vector<std::vector<Eigen::Isometry3d>> free = tracked;
   std::vector<double> planted_lowest;
@@ -203,7 +206,7 @@ std::vector<std::vector<Eigen::Isometry3d>> FreePoses(const std::vector<SoleGeom
     }
   }
   if (planted_lowest.empty()) return free;
-  const double level = NearestRankPercentile(std::move(planted_lowest), 0.5);
+  level = NearestRankPercentile(std::move(planted_lowest), 0.5);
   for (auto& foot : free) {
     for (Eigen::Isometry3d& pose : foot) pose.translation().z() -= level;
   }
@@ -227,6 +230,43 @@ void ContinueLegs(const std::vector<LegChain>& chains, const Eigen::VectorXd& pr
       else if (first && chain.branch[k] && joint <= chain.lower[k] + 1e-9) joint = chain.lower[k] + kBranchStart;
     }
   }
+}
+
+// A leg carried over straight from the previous frame stays straight in the leg solver (there the foot
+// cannot move along the leg), and a plant that comes nearer the hip than the straight leg reaches is then
+// never reached: CMU 05_11's last 15 frames, both knees on 0, the planted feet rose 20-33 mm and slid 57 mm.
+// Such a leg, left more than a millimetre off its target, is solved again from its branch joints bent
+// (within their speed bound), and keeps whichever answer comes nearer. Returns the iterations spent.
+int BendStraightKnees(const std::vector<LegChain>& chains, Workspace& workspace, LegSolver& solver,
+                      const std::vector<Eigen::Isometry3d>& targets, const std::vector<bool>& active, Eigen::VectorXd& q,
+                      const Eigen::VectorXd& before, double step_time, const std::vector<bool>& unbounded,
+                      std::vector<bool>& retry) {
+  constexpr double kOffTarget = 1e-3;  // m
+  Eigen::Matrix<double, 6, 1> error;
+  int iterations = 0;
+  for (size_t f = 0; f < chains.size(); ++f) {
+    if (!active[f]) continue;
+    const LegChain& chain = chains[f];
+    if ((targets[f].translation() - solver.reached(f).translation()).norm() < kOffTarget) continue;
+    bool straight = false;
+    for (size_t k = 0; k < chain.size(); ++k) straight = straight || (chain.branch[k] && q[chain.q_index[k]] <= chain.lower[k] + 1e-9);
+    if (!straight) continue;
+    const double cost = solver.poseError(targets[f], solver.reached(f), error);
+    const Eigen::Isometry3d reached = solver.reached(f);
+    Eigen::Matrix<double, kMaxLegJoints, 1> kept;
+    for (size_t k = 0; k < chain.size(); ++k) {
+      kept[static_cast<Eigen::Index>(k)] = q[chain.q_index[k]];
+      if (chain.branch[k] && q[chain.q_index[k]] <= chain.lower[k] + 1e-9) q[chain.q_index[k]] = chain.lower[k] + kBranchStart;
+    }
+    std::fill(retry.begin(), retry.end(), false);
+    retry[f] = true;
+    iterations += solver.solve(workspace, targets, retry, q, 0.0, step_time > 0 ? &before : nullptr, step_time, &unbounded).iterations;
+    if (solver.poseError(targets[f], solver.reached(f), error) >= cost) {
+      for (size_t k = 0; k < chain.size(); ++k) q[chain.q_index[k]] = kept[static_cast<Eigen::Index>(k)];
+      solver.keepReached(f, reached);
+    }
+  }
+  return iterations;
 }
 
 // Two box filters over ±w frames (a triangle-weighted mean over ±2w), in place; `zero` is Value's zero.
@@ -256,6 +296,29 @@ std::vector<double> SmoothUpperEnvelope(const std::vector<double>& need, int64_t
   }
   BoxFilterTwice(envelope, w, 0.0);
   return envelope;
+}
+
+// Outside contact, a free pose has the source's position but the tracked orientation, and where the two
+// pitch differently its sole hangs lower than the source's: on CMU 08_07 the right foot swung 4 cm below the
+// scaled capture and then skimmed the floor at 3.5 m/s for 20 frames, raised onto it. So an unplanted foot
+// is raised until its lowest sole point is as high as the source foot's own (with the source's orientation,
+// on the same level), by a smooth envelope of what each frame needs over ±2 `half_width` frames.
+void KeepSourceClearance(const std::vector<SoleGeometry>& soles, const FootContacts& contacts,
+                         const std::vector<std::vector<Eigen::Isometry3d>>& source_feet, double level, int64_t half_width,
+                         std::vector<std::vector<Eigen::Isometry3d>>& free) {
+  if (source_feet.size() != free.size()) return;
+  for (size_t f = 0; f < free.size(); ++f) {
+    std::vector<double> need(free[f].size(), 0.0);
+    for (size_t t = 0; t < free[f].size() && t < source_feet[f].size(); ++t) {
+      const Eigen::Isometry3d& source = source_feet[f][t];
+      if (!source.translation().allFinite() || !std::isfinite(source.linear()(0, 0))) continue;
+      if (static_cast<int>(f) < contacts.feet && contacts.at(static_cast<int64_t>(t), static_cast<int>(f))) continue;
+      const double clearance = std::max(0.0, LowestPoint(soles[f], source) - level);
+      need[t] = std::max(0.0, clearance - LowestPoint(soles[f], free[f][t]));
+    }
+    const std::vector<double> raise = SmoothUpperEnvelope(need, half_width);
+    for (size_t t = 0; t < free[f].size(); ++t) free[f][t].translation().z() += raise[t];
+  }
 }
 
 // The legs' joint speeds over the result against their URDF limits (not --velocity-limit-scale's share of
@@ -301,6 +364,7 @@ void ApplyToBase(const Vector6d& correction, Eigen::VectorXd& frame_q, Eigen::Ve
 
 Correction AsCorrection(const Vector6d& correction) { return {correction.tail<3>(), correction.head<3>()}; }
 
+constexpr double kClearanceSmoothing = 0.025;  // s: half the window over which a swing foot's raise is smoothed
 constexpr double kPlantPositionTolerance = 1e-3;  // m: a planted foot this close to its plant needs no base move
 constexpr double kPlantAngleTolerance = 0.5 * M_PI / 180.0;
 
@@ -472,7 +536,10 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       hip[f][static_cast<size_t>(t)] = workspace.findLinkPose(chains[f].hip_link).translation();
     }
   }
-  const std::vector<std::vector<Eigen::Isometry3d>> free = FreePoses(soles, contacts, tracked, source_feet);
+  double level = 0.0;
+  std::vector<std::vector<Eigen::Isometry3d>> free = FreePoses(soles, contacts, tracked, source_feet, level);
+  const double dt = frames > 1 ? (time_s.back() - time_s.front()) / static_cast<double>(frames - 1) : 1.0;
+  KeepSourceClearance(soles, contacts, source_feet, level, static_cast<int64_t>(std::lround(kClearanceSmoothing / std::max(dt, 1e-9))), free);
   for (size_t f = 0; f < foot_count; ++f) {
     FootTargets(soles[f], free[f], contacts.phases, static_cast<int>(f), time_s, options.blend, options.roll_with_source,
                 target[f], corrected[f]);
@@ -522,7 +589,6 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       }
     }
   }
-  const double dt = frames > 1 ? (time_s.back() - time_s.front()) / static_cast<double>(frames - 1) : 1.0;
   const int64_t half_width = static_cast<int64_t>(std::lround(options.lowering_smoothing / std::max(dt, 1e-9)));
   const std::vector<double> lowering = SmoothUpperEnvelope(need, half_width);
 
@@ -561,6 +627,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       planted[f] = options.contacts_above_speed && static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f));
     }
     LegSolveResult solved = solver.solve(workspace, frame_targets, active, frame_q, 0.0, &before, step_time, &planted);
+    solved.iterations += BendStraightKnees(chains, workspace, solver, frame_targets, active, frame_q, before, step_time, planted, retry);
     for (int round = 0; round < 5; ++round) {
       bool rolled = false;
       for (size_t f = 0; f < foot_count; ++f) {

@@ -11,7 +11,10 @@
 //    together (a pelvis above straight legs), which kept swing feet 1-3 cm off
 //    the floor; its orientations are kept because the source's foot orientation
 //    is noisy (a CMU dance's foot roll jitters by 0.5 rad between frames, which
-//    an exact leg solve reproduces and the IK's weighting smooths away).
+//    an exact leg solve reproduces and the IK's weighting smooths away). Where
+//    the tracked orientation hangs an unplanted sole lower than the source's
+//    own (its lowest point, with the source's orientation), the foot rises to
+//    the source's clearance, so a swing foot does not skim the floor.
 // 1. Planted poses. During each contact phase the foot's sole lies flat on
 //    z = 0 and does not move: its yaw is the circular mean of the foot's yaw over
 //    the phase and its sole centre the mean of the sole centre's horizontal
@@ -42,7 +45,8 @@
 //    (leg_chain.h), every other joint unchanged, each leg joint within its
 //    velocity limit of the previous frame, except, with `contacts_above_speed`,
 //    a planted foot's leg: the contact then ranks above the motors' speed. The
-//    joint-frames over their limit are reported either way. Where the limits still leave a sole
+//    joint-frames over their limit are reported either way. A leg carried
+//    over straight that ends off its target is solved again from a bent knee. Where the limits still leave a sole
 //    in the floor (an ankle that cannot pitch the foot flat, a knee that
 //    cannot bend as fast as the body drops), the foot stands on its lowest
 //    point instead: its target rises by the depth, and if the leg cannot lift

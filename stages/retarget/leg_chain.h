@@ -94,6 +94,8 @@ class LegSolver {
 
   // Where the last solve left chain c's foot link (ground frame): valid for the chains that solve had active.
   const Eigen::Isometry3d& reached(size_t c) const { return reached_[c]; }
+  // Restores what reached(c) says after a solve whose answer the caller discarded.
+  void keepReached(size_t c, const Eigen::Isometry3d& pose) { reached_[c] = pose; }
 
   // The weighted 6-D pose error the solver minimises, (angle_scale × rotation vector, translation), and its
   // squared norm.
