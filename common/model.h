@@ -13,6 +13,8 @@
 // Units SI; ground Z up; gravity −Z.
 #pragma once
 
+#include <array>
+#include <map>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -37,6 +39,9 @@ enum class FloatingBase {
 struct ModelOptions {
   FloatingBase floating_base = FloatingBase::kAuto;
   double gravity = 9.80665;  // m/s², along −Z (standard gravity)
+  // Joint -> [lower, upper]: each named joint's position limits become their intersection with the URDF's
+  // (the robot map's [joint_ranges], for retargeting). UsageError where the two do not overlap.
+  std::map<std::string, std::array<double, 2>> joint_ranges = {};
 };
 
 // One URDF joint as the model realised it.

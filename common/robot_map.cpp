@@ -126,6 +126,17 @@ class RobotMapParser {
         if (!table) fields_.fail(value, "[" + name + "] must map joint names to positions");
         auto& stance = name == "reference_stance" ? map.reference_stance : map.calibration_stance.emplace();
         for (const auto& [joint, position] : *table) stance[std::string(joint.str())] = fields_.number(position, "q");
+      } else if (name == "joint_ranges") {
+        const auto* table = value.as_table();
+        if (!table) fields_.fail(value, "[joint_ranges] must map joint names to [lower, upper]");
+        map.joint_ranges_line = LineOf(value);
+        for (const auto& [joint, range] : *table) {
+          const auto* bounds = range.as_array();
+          if (!bounds || bounds->size() != 2) fields_.fail(range, "a joint range is [lower, upper] (rad or m)");
+          const double lower = fields_.number((*bounds)[0], "lower"), upper = fields_.number((*bounds)[1], "upper");
+          if (!(lower < upper)) fields_.fail(range, "a joint range needs lower < upper");
+          map.joint_ranges[std::string(joint.str())] = {lower, upper};
+        }
       } else if (name == "feet") {
         const auto* table = value.as_table();
         if (!table) fields_.fail(value, "[feet] must hold [feet.left] and [feet.right]");
@@ -136,7 +147,7 @@ class RobotMapParser {
       } else {
         fields_.fail(value, "unknown key '" + name +
                                 "' (expected robot, floating_base, proportions, priority_weights, [[task]], [posture], "
-                                "[reference_stance], [calibration_stance], [feet])");
+                                "[reference_stance], [calibration_stance], [joint_ranges], [feet])");
       }
     }
     if (map.tasks.empty()) fields_.fail(1, "the robot map has no [[task]]");
@@ -175,6 +186,12 @@ void CheckRobotMapNames(const RobotMap& map, const std::function<bool(const std:
   for (const RobotFoot& foot : map.feet) {
     if (!has_link(foot.link)) {
       throw DataError(Location::AtLine(map.file, foot.line), "foot link '" + foot.link + "' is not in " + model_name);
+    }
+  }
+  for (const auto& [joint, range] : map.joint_ranges) {
+    if (!has_joint(joint)) {
+      throw DataError(Location::AtLine(map.file, map.joint_ranges_line),
+                      "[joint_ranges] names joint '" + joint + "', which " + model_name + " does not have");
     }
   }
   const std::map<std::string, double> no_stance;

@@ -58,6 +58,10 @@ struct RobotMap {
   // the posture target.
   std::optional<std::map<std::string, double>> calibration_stance;  // an empty table is the default pose
   std::vector<RobotFoot> feet;
+  // [joint_ranges]: joint -> [lower, upper], narrowing the URDF's limits for retargeting (a range the robot
+  // has but a person never uses, through which the IK can reach a mirrored solution: G1's hip roll to 170°).
+  std::map<std::string, std::array<double, 2>> joint_ranges;
+  int joint_ranges_line = 0;
 };
 
 [[nodiscard]] std::string TaskTypeName(TaskType type);

@@ -236,6 +236,17 @@ Model Model::Load(const std::string& urdf_path, const ModelOptions& options) {
         impl->q_lower[entry.q_index] = joint.lower;
         impl->q_upper[entry.q_index] = joint.upper;
       }
+      const auto narrowed = options.joint_ranges.find(joint.name);
+      if (narrowed != options.joint_ranges.end()) {
+        double& lower = impl->q_lower[entry.q_index];
+        double& upper = impl->q_upper[entry.q_index];
+        lower = std::max(lower, narrowed->second[0]);
+        upper = std::min(upper, narrowed->second[1]);
+        if (!(lower < upper)) {
+          throw UsageError("joint range [" + std::to_string(narrowed->second[0]) + ", " + std::to_string(narrowed->second[1]) +
+                           "] for '" + joint.name + "' does not overlap the limits " + urdf_path + " gives it");
+        }
+      }
       if (joint.velocity > 0) impl->u_limit[entry.u_index] = joint.velocity;
       if (joint.effort > 0) impl->effort_limit[entry.u_index] = joint.effort;
     }

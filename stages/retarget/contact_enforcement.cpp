@@ -367,6 +367,11 @@ Correction AsCorrection(const Vector6d& correction) { return {correction.tail<3>
 constexpr double kClearanceSmoothing = 0.025;  // s: half the window over which a swing foot's raise is smoothed
 constexpr double kPlantPositionTolerance = 1e-3;  // m: a planted foot this close to its plant needs no base move
 constexpr double kPlantAngleTolerance = 0.5 * M_PI / 180.0;
+// rad: the most the pelvis turns for a plant. Where a plant is out of reach however the pelvis turns (CMU
+// 94_07's deep squat past G1's ankle), the search kept turning and tipped the robot over by up to 180°; the
+// cap leaves the rest of that plant to the leg solves (94_07's drift p95 81 -> 41 mm). The 31 other CMU walks
+// and dances onto G1 turn at most 31° with G1's [joint_ranges], except 94_15 (63°, unchanged in its drift).
+constexpr double kMaxBaseTurn = 0.8;
 
 // Contacts rank above the pelvis task (issue 17): where a planted foot is out of its leg's reach from the
 // tracked pelvis because a leg joint is on its limit (a dancer turning on one foot further than the G1's
@@ -483,7 +488,12 @@ std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, 
     if (!any) break;
     // Smoothed like the lowering, so the pelvis turns into and out of a move instead of jumping.
     BoxFilterTwice(need, half_width, Vector6d::Zero().eval());
-    for (int64_t t = 0; t < frames; ++t) total[static_cast<size_t>(t)] += need[static_cast<size_t>(t)];
+    for (int64_t t = 0; t < frames; ++t) {
+      Vector6d& sum = total[static_cast<size_t>(t)];
+      sum += need[static_cast<size_t>(t)];
+      const double turn = sum.head<3>().norm();
+      if (turn > kMaxBaseTurn) sum.head<3>() *= kMaxBaseTurn / turn;
+    }
   }
   return total;
 }

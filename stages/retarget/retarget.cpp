@@ -697,6 +697,7 @@ RetargetInputs LoadRetargetInputs(const std::string& markers_path, const Retarge
   ModelOptions model_options;
   model_options.floating_base = FloatingBaseFromName(
       options.floating_base == FloatingBaseChoice::kFromMap ? map.floating_base : FloatingBaseChoiceName(options.floating_base));
+  model_options.joint_ranges = map.joint_ranges;
   Model model = Model::Load(options.model, model_options);
   const auto joint_names = model.coordinateNames();
   CheckRobotMapNames(

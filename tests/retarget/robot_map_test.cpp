@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <tinyxml2.h>
 
+#include <cmath>
 #include <set>
 
 #include "common/error.h"
@@ -107,6 +108,51 @@ TEST(RobotMap, MistakesAreReportedAtTheirLine) {
 
 namespace syn {
 namespace {
+
+// [joint_ranges] narrows the URDF's limits for retargeting: read per joint, checked against the model's
+// joints, and intersected with the URDF's by Model::Load (a range outside them is refused).
+TEST(RobotMap, JointRangesNarrowTheUrdfLimits) {
+  const RobotMap map = LoadRobotMap(testing::SourcePath("manifests/robots/g1.toml"));
+  ASSERT_EQ(map.joint_ranges.count("left_hip_roll_joint"), 1u);
+  const std::array<double, 2> roll = map.joint_ranges.at("left_hip_roll_joint");
+  EXPECT_LT(roll[1], M_PI / 2);  // below the mirrored hip solution (pitch + π, π − roll, yaw + π)
+  const std::string urdf = testing::SourcePath("datasets/robots/unitree_g1/g1_29dof.urdf");
+  const Model plain = Model::Load(urdf);
+  ModelOptions options;
+  options.joint_ranges = map.joint_ranges;
+  const Model narrowed = Model::Load(urdf, options);
+  const auto& names = narrowed.coordinateNames();
+  const auto index = [&](const std::string& joint) {
+    return static_cast<Eigen::Index>(std::find(names.begin(), names.end(), joint) - names.begin());
+  };
+  const Eigen::Index left_roll = index("left_hip_roll_joint"), knee = index("left_knee_joint");
+  EXPECT_DOUBLE_EQ(narrowed.qUpper()[left_roll], roll[1]);
+  EXPECT_DOUBLE_EQ(narrowed.qLower()[left_roll], std::max(roll[0], plain.qLower()[left_roll]));
+  EXPECT_GT(plain.qUpper()[left_roll], 2.9);  // the URDF's 170°
+  EXPECT_DOUBLE_EQ(narrowed.qUpper()[knee], plain.qUpper()[knee]);  // joints not listed keep the URDF's
+  options.joint_ranges = {{"left_knee_joint", {3.0, 4.0}}};          // G1's knee stops at 2.88 rad
+  EXPECT_THROW((void)Model::Load(urdf, options), UsageError);
+
+  const auto line_of = [](const std::string& text) {
+    try {
+      (void)ParseRobotMap(text, "bad.toml");
+    } catch (const DataError& error) {
+      return error.where().line;
+    }
+    return int64_t{-1};
+  };
+  const std::string task = "[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n";
+  EXPECT_EQ(line_of(task + "[joint_ranges]\nhip = [0.5, 0.1]\n"), 5);
+  EXPECT_EQ(line_of(task + "[joint_ranges]\nhip = [0.5]\n"), 5);
+  EXPECT_EQ(line_of(task + "[joint_ranges]\nhip = 0.5\n"), 5);
+  const RobotMap unknown = ParseRobotMap(task + "[joint_ranges]\nhip = [-0.5, 0.5]\n", "t.toml");
+  try {
+    CheckRobotMapNames(unknown, [](const std::string&) { return true; }, [](const std::string&) { return false; }, "robot");
+    FAIL() << "a range for a joint the robot lacks was accepted";
+  } catch (const DataError& error) {
+    EXPECT_NE(std::string(error.what()).find("[joint_ranges] names joint 'hip'"), std::string::npos) << error.what();
+  }
+}
 
 TEST(RobotMap, Hrp4cNamesExistInThePapersRobot) {
   SYN_REQUIRE_SHARED("robots/humanoid_synergies/HRP4c_optitrack_model.urdf");
