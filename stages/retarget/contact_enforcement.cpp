@@ -611,6 +611,13 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
 
   int64_t iterations = 0;
   std::vector<bool> retry(foot_count), planted(foot_count, false);
+  // Per foot and frame, the contact phase that begins there (-1: none).
+  std::vector<std::vector<int>> phase_begins(foot_count, std::vector<int>(static_cast<size_t>(frames), -1));
+  for (size_t p = 0; p < contacts.phases.size(); ++p) {
+    const ContactPhase& phase = contacts.phases[p];
+    if (phase.foot >= 0 && static_cast<size_t>(phase.foot) < foot_count) phase_begins[static_cast<size_t>(phase.foot)][static_cast<size_t>(phase.begin)] = static_cast<int>(p);
+  }
+
   previous_frame = -2;
   Eigen::VectorXd before(nq);  // the previous frame, final: the velocity limits' centre
   for (int64_t t = 0; t < frames; ++t) {
@@ -698,6 +705,30 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       out.worst_position_error = solved.position_error, out.worst_frame = t;
     }
     out.worst_angle_error = std::max(out.worst_angle_error, solved.angle_error);
+    // Touchdown: the plant is where the foot touched down. Where the leg's speed limits kept the foot from
+    // the planned plant at the phase's first frame (HRP-4C's legs, 1.9-3 rad/s, cannot swing at a person's
+    // pace), the plant moves to the reached pose laid flat, for the whole phase, and the correction eases
+    // out over the blend after it; the foot then stays where it landed instead of sliding on to the plan.
+    for (size_t f = 0; f < foot_count; ++f) {
+      const int p = phase_begins[f][static_cast<size_t>(t)];
+      if (p < 0 || !active[f]) continue;
+      const Eigen::Isometry3d& reached = solver.reached(f);
+      const Eigen::Isometry3d& plan = target[f][static_cast<size_t>(t)];
+      const Correction off = Between(plan, reached);
+      if (off.translation.norm() < kPlantPositionTolerance && off.rotation.norm() < kPlantAngleTolerance) continue;
+      const Eigen::Vector3d centre = reached * soles[f].centre;
+      const Correction shift = Between(PlantedPose(soles[f], centre.x(), centre.y(), Yaw(reached.linear(), soles[f])), plan);
+      const ContactPhase& phase = contacts.phases[static_cast<size_t>(p)];
+      for (int64_t s = t; s < phase.end; ++s) target[f][static_cast<size_t>(s)] = Apply(shift, target[f][static_cast<size_t>(s)]);
+      const double end_time = time_s[static_cast<size_t>(phase.end - 1)];
+      for (int64_t s = phase.end; s < frames && time_s[static_cast<size_t>(s)] - end_time < options.blend; ++s) {
+        if (contacts.at(s, static_cast<int>(f))) break;
+        const double w = Ease((time_s[static_cast<size_t>(s)] - end_time) / options.blend);
+        target[f][static_cast<size_t>(s)] = Apply({w * shift.translation, w * shift.rotation}, target[f][static_cast<size_t>(s)]);
+        changed[f][static_cast<size_t>(s)] = true;
+      }
+      ++out.moved_plants;
+    }
     std::copy(frame_q.data(), frame_q.data() + nq, q.begin() + t * nq);
     previous = frame_q, previous_frame = t;
   }

@@ -46,7 +46,10 @@
 //    velocity limit of the previous frame, except, with `contacts_above_speed`,
 //    a planted foot's leg: the contact then ranks above the motors' speed. The
 //    joint-frames over their limit are reported either way. A leg carried
-//    over straight that ends off its target is solved again from a bent knee. Where the limits still leave a sole
+//    over straight that ends off its target is solved again from a bent knee.
+//    Where a phase's first frame leaves the foot off its plant (legs too slow
+//    for the swing: HRP-4C), the phase is planted where the foot touched down
+//    (laid flat), the move easing out after the phase. Where the limits still leave a sole
 //    in the floor (an ankle that cannot pitch the foot flat, a knee that
 //    cannot bend as fast as the body drops), the foot stands on its lowest
 //    point instead: its target rises by the depth, and if the leg cannot lift
@@ -111,6 +114,7 @@ struct ContactEnforcementReport {
   double mean_iterations = 0.0;         // leg-solver iterations per solved frame
   int64_t rolled_foot_frames = 0;       // foot-frames rolled about a sole edge (a joint limit pitched the foot)
   int64_t lifted_frames = 0;            // frames with a foot lifted onto its lowest sole point (its leg at a limit)
+  int64_t moved_plants = 0;             // contact phases planted where the foot touched down, off the plan
   int64_t raised_frames = 0;            // of those, frames whose base rose too (the leg could not lift the foot)
   int64_t base_moved_frames = 0;        // frames whose pelvis moved so that a planted leg reaches its plant
   double max_base_turn = 0.0;           // rad: the largest such rotation

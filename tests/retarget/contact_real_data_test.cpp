@@ -396,7 +396,14 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
 #endif
   SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
   SYN_REQUIRE_SHARED("robots/humanoid_synergies/HRP4c_optitrack_model.urdf");
-  CheckEveryWalkAndDance(Hrp4c(), false);  // the stage's figures against the independent check
+  const SweepResult result = CheckEveryWalkAndDance(Hrp4c(), false);  // the stage's figures against the independent check
+  // Not yet within issue 17's bounds: HRP-4C's legs (1.9-3 rad/s) cannot follow a person's pace, and its virtual
+  // base is not moved for plants. Measured 2026-11-26: planting each phase where the foot touched down took the
+  // stance drift over all 430 phases from 37.5/239 to 23.2/156 mm median/p95 and the trials within the drift
+  // bounds from 1 to 4 (skating 12 -> 14, floor 32). Guarded with a margin against regressions.
+  EXPECT_EQ(result.floor_met, 32);
+  EXPECT_GE(result.drift_met, 3);
+  EXPECT_LE(Quantile(result.drift, 0.5), 0.030);
 }
 
 }  // namespace
