@@ -12,6 +12,16 @@
 namespace syn {
 namespace {
 
+// The line a map text's first mistake is reported at (-1: none).
+int64_t LineOfFirstError(const std::string& text) {
+  try {
+    (void)ParseRobotMap(text, "bad.toml");
+  } catch (const DataError& error) {
+    return error.where().line;
+  }
+  return -1;
+}
+
 TEST(RobotMap, G1FollowsTableOne) {
   const RobotMap map = LoadRobotMap(testing::SourcePath("manifests/robots/g1.toml"));
   ASSERT_EQ(map.tasks.size(), 9u);
@@ -80,25 +90,17 @@ TEST(RobotMap, CalibrationStanceIsASecondStance) {
 }
 
 TEST(RobotMap, MistakesAreReportedAtTheirLine) {
-  const auto line_of = [](const std::string& text) {
-    try {
-      (void)ParseRobotMap(text, "bad.toml");
-    } catch (const DataError& error) {
-      return error.where().line;
-    }
-    return int64_t{-1};
-  };
-  EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\ntype = \"twist\"\n"), 4);
-  EXPECT_EQ(line_of("[[task]]\nlandmark = \"nose\"\nlink = \"p\"\n"), 2);
-  EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\npriority = 4\n"), 4);
-  EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n[[task]]\nlandmark = \"pelvis\"\nlink = \"q\"\n"), 4);
-  EXPECT_EQ(line_of("robot = \"x\"\nspeed = 3\n"), 2);
-  EXPECT_EQ(line_of("robot = \"x\"\nproportions = \"arms\"\n"), 2);
+  EXPECT_EQ(LineOfFirstError("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\ntype = \"twist\"\n"), 4);
+  EXPECT_EQ(LineOfFirstError("[[task]]\nlandmark = \"nose\"\nlink = \"p\"\n"), 2);
+  EXPECT_EQ(LineOfFirstError("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\npriority = 4\n"), 4);
+  EXPECT_EQ(LineOfFirstError("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n[[task]]\nlandmark = \"pelvis\"\nlink = \"q\"\n"), 4);
+  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nspeed = 3\n"), 2);
+  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nproportions = \"arms\"\n"), 2);
   // The posture level indexes the three priority weights: out of range, fractional or huge is an error, not UB.
-  EXPECT_EQ(line_of("[posture]\npriority = 0\n"), 2);
-  EXPECT_EQ(line_of("[posture]\npriority = 55555755555555555\n"), 2);
-  EXPECT_EQ(line_of("[posture]\n\npriority = 2.5\n"), 3);
-  EXPECT_EQ(line_of("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\npriority = 1e300\n"), 4);
+  EXPECT_EQ(LineOfFirstError("[posture]\npriority = 0\n"), 2);
+  EXPECT_EQ(LineOfFirstError("[posture]\npriority = 55555755555555555\n"), 2);
+  EXPECT_EQ(LineOfFirstError("[posture]\n\npriority = 2.5\n"), 3);
+  EXPECT_EQ(LineOfFirstError("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\npriority = 1e300\n"), 4);
 }
 
 }  // namespace
@@ -133,18 +135,10 @@ TEST(RobotMap, JointRangesNarrowTheUrdfLimits) {
   options.joint_ranges = {{"left_knee_joint", {3.0, 4.0}}};          // G1's knee stops at 2.88 rad
   EXPECT_THROW((void)Model::Load(urdf, options), UsageError);
 
-  const auto line_of = [](const std::string& text) {
-    try {
-      (void)ParseRobotMap(text, "bad.toml");
-    } catch (const DataError& error) {
-      return error.where().line;
-    }
-    return int64_t{-1};
-  };
   const std::string task = "[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n";
-  EXPECT_EQ(line_of(task + "[joint_ranges]\nhip = [0.5, 0.1]\n"), 5);
-  EXPECT_EQ(line_of(task + "[joint_ranges]\nhip = [0.5]\n"), 5);
-  EXPECT_EQ(line_of(task + "[joint_ranges]\nhip = 0.5\n"), 5);
+  EXPECT_EQ(LineOfFirstError(task + "[joint_ranges]\nhip = [0.5, 0.1]\n"), 5);
+  EXPECT_EQ(LineOfFirstError(task + "[joint_ranges]\nhip = [0.5]\n"), 5);
+  EXPECT_EQ(LineOfFirstError(task + "[joint_ranges]\nhip = 0.5\n"), 5);
   const RobotMap unknown = ParseRobotMap(task + "[joint_ranges]\nhip = [-0.5, 0.5]\n", "t.toml");
   try {
     CheckRobotMapNames(unknown, [](const std::string&) { return true; }, [](const std::string&) { return false; }, "robot");
