@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
@@ -10,6 +11,7 @@
 #include "common/configuration_space.h"
 #include "common/error.h"
 #include "common/percentile.h"
+#include "stages/retarget/base_mover.h"
 #include "stages/retarget/branch_joints.h"
 #include "stages/retarget/leg_chain.h"
 
@@ -353,15 +355,6 @@ void MeasureOverspeed(const Model& model, const std::vector<LegChain>& chains, c
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;  // a base correction: rotation vector, translation (ground frame)
 
-// frame_q's free base moved by the correction (R = exp(ω) R0, p = p0 + v: what Apply does to a pose);
-// `from` and `velocity` are the caller's scratch (nq, nu).
-void ApplyToBase(const Vector6d& correction, Eigen::VectorXd& frame_q, Eigen::VectorXd& from, Eigen::VectorXd& velocity) {
-  velocity.setZero();
-  velocity.head<6>() = correction;
-  from = frame_q;
-  Integrate(ConfigurationShape::Of(true, static_cast<int>(frame_q.size())), from.data(), velocity.data(), frame_q.data());
-}
-
 Correction AsCorrection(const Vector6d& correction) { return {correction.tail<3>(), correction.head<3>()}; }
 
 constexpr double kClearanceSmoothing = 0.025;  // s: half the window over which a swing foot's raise is smoothed
@@ -373,6 +366,45 @@ constexpr double kPlantAngleTolerance = 0.5 * M_PI / 180.0;
 // and dances onto G1 turn at most 31° with G1's [joint_ranges], except 94_15 (63°, unchanged in its drift).
 constexpr double kMaxBaseTurn = 0.8;
 
+// Levenberg-Marquardt over a base correction with a finite-difference Jacobian, shared by the two pelvis
+// searches below. `evaluate(c, r)` fills the residual r and returns ‖r‖² + kBasePrior ‖c − centre‖²; each
+// candidate step passes through `filter`; the search stops after `iterations`, when `done()`, or when no step
+// lowers the cost. On entry `correction`, `residual` and `cost` are the start; on exit the best found.
+constexpr double kBasePrior = 1e-6, kBaseStep = 1e-6;  // the pull towards `centre`; the finite-difference step
+
+template <typename Evaluate, typename Filter, typename Done>
+void DescendOverBase(const Evaluate& evaluate, const Vector6d& centre, const Filter& filter, const Done& done, int iterations,
+                     Vector6d& correction, Eigen::VectorXd& residual, double& cost, Eigen::VectorXd& trial,
+                     Eigen::MatrixXd& jacobian) {
+  double damping = 1e-4;
+  jacobian.resize(residual.size(), 6);
+  for (int iteration = 0; iteration < iterations && !done(); ++iteration) {
+    for (int i = 0; i < 6; ++i) {
+      Vector6d nudged = correction;
+      nudged[i] += kBaseStep;
+      evaluate(nudged, trial);
+      jacobian.col(i) = (trial - residual) / kBaseStep;
+    }
+    const Eigen::Matrix<double, 6, 6> normal = jacobian.transpose() * jacobian;
+    const Vector6d gradient = jacobian.transpose() * residual + kBasePrior * (correction - centre);
+    bool improved = false;
+    for (int attempt = 0; attempt < 6 && !improved; ++attempt) {
+      Eigen::Matrix<double, 6, 6> damped = normal;
+      damped.diagonal().array() += damping + kBasePrior;
+      Vector6d candidate = correction - damped.ldlt().solve(gradient);
+      filter(candidate);
+      const double candidate_cost = evaluate(candidate, trial);  // last: the caller's state is its
+      if (candidate_cost < cost) {
+        improved = true, cost = candidate_cost, correction = candidate, residual = trial;
+        damping = std::max(damping / 3.0, 1e-9);
+      } else {
+        damping *= 10.0;
+      }
+    }
+    if (!improved) break;
+  }
+}
+
 // Contacts rank above the pelvis task (issue 17): where a planted foot is out of its leg's reach from the
 // tracked pelvis because a leg joint is on its limit (a dancer turning on one foot further than the G1's
 // hip yaw and roll allow: CMU 05_02's left plant slid 41 mm and turned 30° with the hip roll on -0.52 rad),
@@ -380,24 +412,23 @@ constexpr double kMaxBaseTurn = 0.8;
 // its plant (Levenberg–Marquardt over the base's six velocities, each evaluation the planted legs solved
 // from their moved roots). The corrections are smoothed in time like the lowering, and the pass repeated
 // on what the smoothing left, so the upper body turns with the pelvis smoothly instead of jumping.
-std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, LegSolver& solver, const std::vector<LegChain>& chains,
+std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover, Workspace& workspace, LegSolver& solver, const std::vector<LegChain>& chains,
                                       const FootContacts& contacts, const std::vector<std::vector<Eigen::Isometry3d>>& target,
                                       const std::vector<double>& lowering, int64_t vertical_coordinate, int64_t half_width,
                                       const std::vector<double>& q) {
   const int64_t nq = model.nq(), frames = static_cast<int64_t>(lowering.size());
   const size_t foot_count = chains.size();
   std::vector<Vector6d> total(static_cast<size_t>(frames), Vector6d::Zero());
-  const int base_link = model.freeBaseLink();
+  const int base_link = mover.link();
   if (base_link < 0 || contacts.feet == 0) return total;
   std::vector<Vector6d> need(static_cast<size_t>(frames));
   std::vector<bool> planted(foot_count);
   std::vector<Eigen::Isometry3d> relative(foot_count), roots(foot_count), frame_targets(foot_count);
-  Eigen::VectorXd frame_q(nq), legs(nq), velocity(model.nu()), previous_legs(nq), scratch_q(nq);
+  Eigen::VectorXd frame_q(nq), legs(nq), previous_legs(nq), scratch_q(nq);
   Eigen::Matrix<double, 6, 1> error;
   Eigen::VectorXd residual, trial;
   Eigen::MatrixXd jacobian;
   constexpr int kPasses = 6, kIterations = 12;
-  constexpr double kStep = 1e-6, kPrior = 1e-6;  // finite-difference step; the pull toward no correction
   for (int pass = 0; pass < kPasses; ++pass) {
     bool any = false;
     int64_t previous_frame = -2;
@@ -413,7 +444,7 @@ std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, 
       if (rows == 0) continue;
       frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
       if (vertical_coordinate >= 0) frame_q[vertical_coordinate] -= lowering[static_cast<size_t>(t)];
-      ApplyToBase(total[static_cast<size_t>(t)], frame_q, scratch_q, velocity);
+      mover.apply(total[static_cast<size_t>(t)], frame_q);
       workspace.setQ(frame_q);
       const Eigen::Isometry3d base = workspace.findLinkPose(base_link);
       for (size_t f = 0; f < foot_count; ++f) relative[f] = base.inverse() * workspace.findLinkPose(chains[f].root_link);
@@ -435,7 +466,7 @@ std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, 
           const Correction off = Between(frame_targets[f], solver.reached(f));
           reached = reached && off.translation.norm() < kPlantPositionTolerance && off.rotation.norm() < kPlantAngleTolerance;
         }
-        return r.squaredNorm() + kPrior * correction.squaredNorm();
+        return r.squaredNorm() + kBasePrior * correction.squaredNorm();
       };
       // Where to start the legs. A plant the previous frame's legs reach without a move needs none: the final
       // solves continue from the previous frame, and from a straight tracked knee a solve stops short where
@@ -454,32 +485,8 @@ std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, 
         previous_legs = legs, previous_frame = t;
         continue;
       }
-      double damping = 1e-4;
-      jacobian.resize(rows, 6);
-      for (int iteration = 0; iteration < kIterations && !reached; ++iteration) {
-        for (int i = 0; i < 6; ++i) {
-          Vector6d nudged = correction;
-          nudged[i] += kStep;
-          evaluate(nudged, trial);
-          jacobian.col(i) = (trial - residual) / kStep;
-        }
-        const Eigen::Matrix<double, 6, 6> normal = jacobian.transpose() * jacobian;
-        const Vector6d gradient = jacobian.transpose() * residual + kPrior * correction;
-        bool improved = false;
-        for (int attempt = 0; attempt < 6 && !improved; ++attempt) {
-          Eigen::Matrix<double, 6, 6> damped = normal;
-          damped.diagonal().array() += damping + kPrior;
-          const Vector6d candidate = correction - damped.ldlt().solve(gradient);
-          const double candidate_cost = evaluate(candidate, trial);  // last: `reached` and `legs` are its
-          if (candidate_cost < cost) {
-            improved = true, cost = candidate_cost, correction = candidate, residual = trial;
-            damping = std::max(damping / 3.0, 1e-9);
-          } else {
-            damping *= 10.0;
-          }
-        }
-        if (!improved) break;
-      }
+      DescendOverBase(evaluate, Vector6d::Zero(), [](Vector6d&) {}, [&] { return reached; }, kIterations, correction, residual,
+                      cost, trial, jacobian);
       evaluate(correction, residual);  // the legs at the correction taken, for the next frame's start
       previous_legs = legs, previous_frame = t;
       out = correction;
@@ -496,6 +503,81 @@ std::vector<Vector6d> BaseCorrections(const Model& model, Workspace& workspace, 
     }
   }
   return total;
+}
+
+// The legs' speed limits rank below contacts too: where a planted leg, each joint within its velocity limit
+// of the previous frame, cannot hold its plant from the pelvis the pass above left (HRP-4C's legs turn at
+// 1.9-3 rad/s; a person's pelvis moves faster over a planted foot), the pelvis moves this frame by the least
+// turn and shift with which every planted leg holds its plant within those limits (Levenberg-Marquardt as in
+// BaseCorrections, the legs solved with their speed bounds), and the upper body with it. Returns whether it
+// moved; frame_q's legs are then to be solved again from the moved pelvis.
+// HoldPlantsWithinSpeed's Levenberg-Marquardt iterations per frame (10 took HRP-4C's 32 CMU walks and dances
+// 20 % longer for a stance drift median of 12.9 mm against 12.6 at 4), and the farthest its pelvis moves from
+// the tracking: further, HRP-4C's pelvis lagged its target by up to 0.8 m on CMU 94_06.
+constexpr int kHoldIterations = 4;
+constexpr double kMaxHoldShift = 0.1;  // m
+
+// How far a pelvis move may change from one frame to the next: 0.01 rad and 5 mm (1.2 rad/s, 0.6 m/s at
+// 120 Hz), so that the pelvis, the upper body with it, does not jump.
+void LimitBaseStep(Vector6d& step) {
+  constexpr double kTurn = 0.01, kShift = 0.005;
+  const double turn = step.head<3>().norm(), shift = step.tail<3>().norm();
+  if (turn > kTurn) step.head<3>() *= kTurn / turn;
+  if (shift > kShift) step.tail<3>() *= kShift / shift;
+}
+
+bool HoldPlantsWithinSpeed(const BaseMover& mover, Workspace& workspace, LegSolver& solver, const std::vector<LegChain>& chains,
+                           const std::vector<Eigen::Isometry3d>& targets, const std::vector<bool>& planted,
+                           const Eigen::VectorXd& before, double step_time, const std::vector<bool>& unbounded,
+                           const Vector6d& carried, Eigen::VectorXd& frame_q, Vector6d& moved) {
+  moved.setZero();
+  if (!mover.canMove() || step_time <= 0) return false;
+  int rows = 0;
+  bool missing = false;
+  for (size_t f = 0; f < chains.size(); ++f) {
+    if (!planted[f]) continue;
+    rows += 6;
+    const Correction off = Between(targets[f], solver.reached(f));
+    missing = missing || off.translation.norm() > kPlantPositionTolerance || off.rotation.norm() > kPlantAngleTolerance;
+  }
+  if (!missing) return false;
+  workspace.setQ(frame_q);
+  const Eigen::Isometry3d base = workspace.findLinkPose(mover.link());
+  std::vector<Eigen::Isometry3d> relative(chains.size()), roots(chains.size());
+  for (size_t f = 0; f < chains.size(); ++f) relative[f] = base.inverse() * workspace.findLinkPose(chains[f].root_link);
+  Eigen::VectorXd legs(frame_q.size());
+  Eigen::Matrix<double, 6, 1> error;
+  const auto evaluate = [&](const Vector6d& correction, Eigen::VectorXd& r) {
+    const Eigen::Isometry3d at = Apply(AsCorrection(correction), base);
+    for (size_t f = 0; f < chains.size(); ++f) roots[f] = at * relative[f];
+    legs = frame_q;
+    solver.solveFromRoots(roots, targets, planted, legs, 0.0, &before, step_time, &unbounded);
+    r.resize(rows);
+    int row = 0;
+    for (size_t f = 0; f < chains.size(); ++f) {
+      if (!planted[f]) continue;
+      solver.poseError(targets[f], solver.reached(f), error);
+      r.segment<6>(row) = error, row += 6;
+    }
+    return r.squaredNorm() + kBasePrior * (carried + correction).squaredNorm();
+  };
+  Vector6d correction = Vector6d::Zero();
+  Eigen::VectorXd residual, trial;
+  double cost = evaluate(correction, residual);
+  const double start_cost = cost;
+  Eigen::MatrixXd jacobian;
+  // Held as soon as a step brings the plants within a millimetre (not before the first: a plant may miss by
+  // its angle alone, which that norm does not see).
+  bool stepped = false;
+  const auto held = [&] { return std::exchange(stepped, true) && residual.norm() < kPlantPositionTolerance; };
+  DescendOverBase(evaluate, -carried, LimitBaseStep, held, kHoldIterations, correction, residual, cost, trial, jacobian);
+  if (!(cost < start_cost) || (carried + correction).head<3>().norm() > kMaxBaseTurn ||
+      (carried + correction).tail<3>().norm() > kMaxHoldShift) {
+    return false;
+  }
+  mover.apply(correction, frame_q);
+  moved = correction;
+  return true;
 }
 
 }  // namespace
@@ -603,14 +685,15 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   const std::vector<double> lowering = SmoothUpperEnvelope(need, half_width);
 
   const int64_t base_half_width = static_cast<int64_t>(std::lround(options.base_smoothing / std::max(dt, 1e-9)));
+  const BaseMover mover(model);
   const std::vector<Vector6d> base_correction =
       options.move_base_for_plants
-          ? BaseCorrections(model, workspace, solver, chains, contacts, target, lowering, vertical_coordinate, base_half_width, q)
+          ? BaseCorrections(model, mover, workspace, solver, chains, contacts, target, lowering, vertical_coordinate, base_half_width, q)
           : std::vector<Vector6d>(static_cast<size_t>(frames), Vector6d::Zero());
-  Eigen::VectorXd base_velocity(model.nu()), base_scratch(nq);
 
   int64_t iterations = 0;
-  std::vector<bool> retry(foot_count), planted(foot_count, false);
+  std::vector<bool> retry(foot_count), planted(foot_count, false), held(foot_count, false);
+  Vector6d speed_move = Vector6d::Zero();  // HoldPlantsWithinSpeed's pelvis move, carried from frame to frame
   // Per foot and frame, the contact phase that begins there (-1: none).
   std::vector<std::vector<int>> phase_begins(foot_count, std::vector<int>(static_cast<size_t>(frames), -1));
   for (size_t p = 0; p < contacts.phases.size(); ++p) {
@@ -626,17 +709,19 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     const double drop = lowering[static_cast<size_t>(t)];
     const Vector6d& moved = base_correction[static_cast<size_t>(t)];
     const bool base_moved = moved.squaredNorm() > 0;
-    bool any = drop > 1e-9 || base_moved;
+    bool any = drop > 1e-9 || base_moved || speed_move.squaredNorm() > 0;
     for (size_t f = 0; f < foot_count; ++f) any = any || changed[f][static_cast<size_t>(t)];
     if (!any) continue;
     frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
     if (drop > 1e-9) frame_q[vertical_coordinate] -= drop;
     if (base_moved) {
-      ApplyToBase(moved, frame_q, base_scratch, base_velocity);
+      mover.apply(moved, frame_q);
       ++out.base_moved_frames;
       out.max_base_turn = std::max(out.max_base_turn, moved.head<3>().norm());
       out.max_base_shift = std::max(out.max_base_shift, moved.tail<3>().norm());
     }
+    const Eigen::VectorXd before_speed_move = frame_q;
+    if (speed_move.squaredNorm() > 0) mover.apply(speed_move, frame_q);
     ContinueLegs(chains, previous, t - 1 == previous_frame, previous_frame < 0, frame_q);
     for (size_t f = 0; f < foot_count; ++f) {
       frame_targets[f] = target[f][static_cast<size_t>(t)];
@@ -645,6 +730,28 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     }
     LegSolveResult solved = solver.solve(workspace, frame_targets, active, frame_q, 0.0, &before, step_time, &planted);
     solved.iterations += BendStraightKnees(chains, workspace, solver, frame_targets, active, frame_q, before, step_time, planted, retry);
+    if (options.move_base_for_plants && mover.canMove()) {
+      for (size_t f = 0; f < foot_count; ++f) held[f] = active[f] && static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f));
+      Vector6d step;
+      if (HoldPlantsWithinSpeed(mover, workspace, solver, chains, frame_targets, held, before, step_time, planted, speed_move,
+                                frame_q, step)) {
+        speed_move += step;
+      } else if (speed_move.squaredNorm() > 0) {
+        // Nothing to hold: the pelvis returns towards the tracking as fast as a move may change.
+        step = -speed_move;
+        LimitBaseStep(step);
+        frame_q = before_speed_move;
+        speed_move += step;
+        if (speed_move.squaredNorm() > 0) mover.apply(speed_move, frame_q);
+        ContinueLegs(chains, previous, t - 1 == previous_frame, previous_frame < 0, frame_q);
+      }
+      if (step.squaredNorm() > 0) {
+        const LegSolveResult again = solver.solve(workspace, frame_targets, active, frame_q, 0.0, &before, step_time, &planted);
+        solved.iterations += again.iterations;
+        solved.position_error = again.position_error, solved.angle_error = again.angle_error;
+      }
+      if (speed_move.squaredNorm() > 0) ++out.speed_base_moved_frames;
+    }
     for (int round = 0; round < 5; ++round) {
       bool rolled = false;
       for (size_t f = 0; f < foot_count; ++f) {

@@ -39,7 +39,8 @@
 //    lowered pelvis (a leg joint on its limit: a dancer turning on one foot
 //    further than the robot's hip allows), the pelvis turns and shifts by the
 //    least amount with which every planted leg reaches its plant, smoothed in
-//    time; the upper body moves with it. Only a free base moves so.
+//    time; the upper body moves with it. A free base, or a virtual base chain
+//    of x, y, z slides and x, y, z turns (HRP-4C's), moves so (base_mover.h).
 // 4. Legs. Each frame whose foot targets differ from where the lowered robot
 //    puts its feet is solved exactly for those feet by the leg chains
 //    (leg_chain.h), every other joint unchanged, each leg joint within its
@@ -49,7 +50,11 @@
 //    over straight that ends off its target is solved again from a bent knee.
 //    Where a phase's first frame leaves the foot off its plant (legs too slow
 //    for the swing: HRP-4C), the phase is planted where the foot touched down
-//    (laid flat), the move easing out after the phase. Where the limits still leave a sole
+//    (laid flat), the move easing out after the phase. Where a planted leg,
+//    within its speed limits, still cannot hold its plant, the pelvis moves
+//    this frame too (Levenberg-Marquardt, at most 0.01 rad and 5 mm a frame
+//    from the last frame's move, returning to the tracking at that rate when
+//    nothing needs holding). Where the limits still leave a sole
 //    in the floor (an ankle that cannot pitch the foot flat, a knee that
 //    cannot bend as fast as the body drops), the foot stands on its lowest
 //    point instead: its target rises by the depth, and if the leg cannot lift
@@ -114,7 +119,8 @@ struct ContactEnforcementReport {
   double mean_iterations = 0.0;         // leg-solver iterations per solved frame
   int64_t rolled_foot_frames = 0;       // foot-frames rolled about a sole edge (a joint limit pitched the foot)
   int64_t lifted_frames = 0;            // frames with a foot lifted onto its lowest sole point (its leg at a limit)
-  int64_t moved_plants = 0;             // contact phases planted where the foot touched down, off the plan
+  int64_t moved_plants = 0;
+  int64_t speed_base_moved_frames = 0;  // frames whose pelvis moved so that planted legs hold within their speed             // contact phases planted where the foot touched down, off the plan
   int64_t raised_frames = 0;            // of those, frames whose base rose too (the leg could not lift the foot)
   int64_t base_moved_frames = 0;        // frames whose pelvis moved so that a planted leg reaches its plant
   double max_base_turn = 0.0;           // rad: the largest such rotation

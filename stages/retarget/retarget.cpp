@@ -673,7 +673,8 @@ std::string RetargetSummary::BriefReport() const {
           << enforcement.mean_iterations << " iterations), base lowered up to " << enforcement.max_lowering * 1000
           << " mm (" << enforcement.lowered_frames << " frames), pelvis moved for a plant in "
           << enforcement.base_moved_frames << " frames (up to " << enforcement.max_base_turn * 180 / M_PI << " deg, "
-          << enforcement.max_base_shift * 1000 << " mm), " << enforcement.moved_plants
+          << enforcement.max_base_shift * 1000 << " mm) and to hold plants within the legs' reach and speed in "
+          << enforcement.speed_base_moved_frames << " frames, " << enforcement.moved_plants
           << " plants where the foot touched down off the plan, " << enforcement.unreachable_frames
           << " frames out of reach, worst foot error " << enforcement.worst_position_error * 1000 << " mm / "
           << enforcement.worst_angle_error * 180 / M_PI << " deg, " << enforcement.rolled_foot_frames
