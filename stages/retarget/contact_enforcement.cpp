@@ -526,10 +526,17 @@ void LimitBaseStep(Vector6d& step) {
   if (shift > kShift) step.tail<3>() *= kShift / shift;
 }
 
+// Scratch of HoldPlantsWithinSpeed, sized once per take: nothing is allocated per frame.
+struct HoldScratch {
+  std::vector<Eigen::Isometry3d> relative, roots;
+  Eigen::VectorXd legs, residual, trial;
+  Eigen::MatrixXd jacobian;
+};
+
 bool HoldPlantsWithinSpeed(const BaseMover& mover, Workspace& workspace, LegSolver& solver, const std::vector<LegChain>& chains,
                            const std::vector<Eigen::Isometry3d>& targets, const std::vector<bool>& planted,
                            const Eigen::VectorXd& before, double step_time, const std::vector<bool>& unbounded,
-                           const Vector6d& carried, Eigen::VectorXd& frame_q, Vector6d& moved) {
+                           const Vector6d& carried, HoldScratch& scratch, Eigen::VectorXd& frame_q, Vector6d& moved) {
   moved.setZero();
   if (!mover.canMove() || step_time <= 0) return false;
   int rows = 0;
@@ -543,15 +550,14 @@ bool HoldPlantsWithinSpeed(const BaseMover& mover, Workspace& workspace, LegSolv
   if (!missing) return false;
   workspace.setQ(frame_q);
   const Eigen::Isometry3d base = workspace.findLinkPose(mover.link());
-  std::vector<Eigen::Isometry3d> relative(chains.size()), roots(chains.size());
-  for (size_t f = 0; f < chains.size(); ++f) relative[f] = base.inverse() * workspace.findLinkPose(chains[f].root_link);
-  Eigen::VectorXd legs(frame_q.size());
+  scratch.relative.resize(chains.size()), scratch.roots.resize(chains.size());
+  for (size_t f = 0; f < chains.size(); ++f) scratch.relative[f] = base.inverse() * workspace.findLinkPose(chains[f].root_link);
   Eigen::Matrix<double, 6, 1> error;
   const auto evaluate = [&](const Vector6d& correction, Eigen::VectorXd& r) {
     const Eigen::Isometry3d at = Apply(AsCorrection(correction), base);
-    for (size_t f = 0; f < chains.size(); ++f) roots[f] = at * relative[f];
-    legs = frame_q;
-    solver.solveFromRoots(roots, targets, planted, legs, 0.0, &before, step_time, &unbounded);
+    for (size_t f = 0; f < chains.size(); ++f) scratch.roots[f] = at * scratch.relative[f];
+    scratch.legs = frame_q;
+    solver.solveFromRoots(scratch.roots, targets, planted, scratch.legs, 0.0, &before, step_time, &unbounded);
     r.resize(rows);
     int row = 0;
     for (size_t f = 0; f < chains.size(); ++f) {
@@ -562,15 +568,15 @@ bool HoldPlantsWithinSpeed(const BaseMover& mover, Workspace& workspace, LegSolv
     return r.squaredNorm() + kBasePrior * (carried + correction).squaredNorm();
   };
   Vector6d correction = Vector6d::Zero();
-  Eigen::VectorXd residual, trial;
+  Eigen::VectorXd& residual = scratch.residual;
   double cost = evaluate(correction, residual);
   const double start_cost = cost;
-  Eigen::MatrixXd jacobian;
   // Held as soon as a step brings the plants within a millimetre (not before the first: a plant may miss by
   // its angle alone, which that norm does not see).
   bool stepped = false;
   const auto held = [&] { return std::exchange(stepped, true) && residual.norm() < kPlantPositionTolerance; };
-  DescendOverBase(evaluate, -carried, LimitBaseStep, held, kHoldIterations, correction, residual, cost, trial, jacobian);
+  DescendOverBase(evaluate, -carried, LimitBaseStep, held, kHoldIterations, correction, residual, cost, scratch.trial,
+                  scratch.jacobian);
   if (!(cost < start_cost) || (carried + correction).head<3>().norm() > kMaxBaseTurn ||
       (carried + correction).tail<3>().norm() > kMaxHoldShift) {
     return false;
@@ -694,6 +700,8 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   int64_t iterations = 0;
   std::vector<bool> retry(foot_count), planted(foot_count, false), held(foot_count, false);
   Vector6d speed_move = Vector6d::Zero();  // HoldPlantsWithinSpeed's pelvis move, carried from frame to frame
+  HoldScratch hold_scratch;
+  Eigen::VectorXd before_speed_move(nq);  // the frame before that move, to re-apply a changed one
   // Per foot and frame, the contact phase that begins there (-1: none).
   std::vector<std::vector<int>> phase_begins(foot_count, std::vector<int>(static_cast<size_t>(frames), -1));
   for (size_t p = 0; p < contacts.phases.size(); ++p) {
@@ -720,7 +728,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       out.max_base_turn = std::max(out.max_base_turn, moved.head<3>().norm());
       out.max_base_shift = std::max(out.max_base_shift, moved.tail<3>().norm());
     }
-    const Eigen::VectorXd before_speed_move = frame_q;
+    before_speed_move = frame_q;
     if (speed_move.squaredNorm() > 0) mover.apply(speed_move, frame_q);
     ContinueLegs(chains, previous, t - 1 == previous_frame, previous_frame < 0, frame_q);
     for (size_t f = 0; f < foot_count; ++f) {
@@ -734,7 +742,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       for (size_t f = 0; f < foot_count; ++f) held[f] = active[f] && static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f));
       Vector6d step;
       if (HoldPlantsWithinSpeed(mover, workspace, solver, chains, frame_targets, held, before, step_time, planted, speed_move,
-                                frame_q, step)) {
+                                hold_scratch, frame_q, step)) {
         speed_move += step;
       } else if (speed_move.squaredNorm() > 0) {
         // Nothing to hold: the pelvis returns towards the tracking as fast as a move may change.
