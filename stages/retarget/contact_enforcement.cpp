@@ -250,19 +250,20 @@ int BendStraightKnees(const std::vector<LegChain>& chains, Workspace& workspace,
     if (!active[f]) continue;
     const LegChain& chain = chains[f];
     if ((targets[f].translation() - solver.reached(f).translation()).norm() < kOffTarget) continue;
+    const auto on_floor = [&](size_t k) { return chain.branch[k] && q[chain.q_index[k]] <= chain.lower[k] + 1e-9; };
     bool straight = false;
-    for (size_t k = 0; k < chain.size(); ++k) straight = straight || (chain.branch[k] && q[chain.q_index[k]] <= chain.lower[k] + 1e-9);
+    for (size_t k = 0; k < chain.size(); ++k) straight = straight || on_floor(k);
     if (!straight) continue;
     const double cost = solver.poseError(targets[f], solver.reached(f), error);
     const Eigen::Isometry3d reached = solver.reached(f);
     Eigen::Matrix<double, kMaxLegJoints, 1> kept;
     for (size_t k = 0; k < chain.size(); ++k) {
       kept[static_cast<Eigen::Index>(k)] = q[chain.q_index[k]];
-      if (chain.branch[k] && q[chain.q_index[k]] <= chain.lower[k] + 1e-9) q[chain.q_index[k]] = chain.lower[k] + kBranchStart;
+      if (on_floor(k)) q[chain.q_index[k]] = chain.lower[k] + kBranchStart;
     }
     std::fill(retry.begin(), retry.end(), false);
     retry[f] = true;
-    iterations += solver.solve(workspace, targets, retry, q, 0.0, step_time > 0 ? &before : nullptr, step_time, &unbounded).iterations;
+    iterations += solver.solve(workspace, targets, retry, q, 0.0, &before, step_time, &unbounded).iterations;  // dt 0: unbounded
     if (solver.poseError(targets[f], solver.reached(f), error) >= cost) {
       for (size_t k = 0; k < chain.size(); ++k) q[chain.q_index[k]] = kept[static_cast<Eigen::Index>(k)];
       solver.keepReached(f, reached);
@@ -366,6 +367,39 @@ constexpr double kPlantAngleTolerance = 0.5 * M_PI / 180.0;
 // and dances onto G1 turn at most 31° with G1's [joint_ranges], except 94_15 (63°, unchanged in its drift).
 constexpr double kMaxBaseTurn = 0.8;
 
+// Whether a foot at `reached` is on its plant `target`, within the tolerances above.
+bool OnPlant(const Eigen::Isometry3d& target, const Eigen::Isometry3d& reached) {
+  const Correction off = Between(target, reached);
+  return off.translation.norm() < kPlantPositionTolerance && off.rotation.norm() < kPlantAngleTolerance;
+}
+
+// The planted legs of both pelvis searches below, with the base at `base` moved by `correction`: each leg's
+// root is the moved base times its `relative` pose, the legs are solved from `start` (within their speed
+// bounds about `previous` over `dt` when given, `unbounded` exempting some), and their pose errors
+// (LegSolver::poseError) are stacked into r. `roots` and `legs` are the caller's scratch; `legs` holds the
+// answer. Returns whether every planted foot is on its plant.
+bool SolvePlantedLegs(LegSolver& solver, const Eigen::Isometry3d& base, const Vector6d& correction,
+                      const std::vector<Eigen::Isometry3d>& relative, const std::vector<Eigen::Isometry3d>& targets,
+                      const std::vector<bool>& planted, int rows, const Eigen::VectorXd& start, const Eigen::VectorXd* previous,
+                      double dt, const std::vector<bool>* unbounded, std::vector<Eigen::Isometry3d>& roots,
+                      Eigen::VectorXd& legs, Eigen::VectorXd& r) {
+  const Eigen::Isometry3d moved = Apply(AsCorrection(correction), base);
+  for (size_t f = 0; f < relative.size(); ++f) roots[f] = moved * relative[f];
+  legs = start;
+  solver.solveFromRoots(roots, targets, planted, legs, 0.0, previous, dt, unbounded);
+  r.resize(rows);
+  Eigen::Matrix<double, 6, 1> error;
+  int row = 0;
+  bool on_plants = true;
+  for (size_t f = 0; f < relative.size(); ++f) {
+    if (!planted[f]) continue;
+    solver.poseError(targets[f], solver.reached(f), error);
+    r.segment<6>(row) = error, row += 6;
+    on_plants = on_plants && OnPlant(targets[f], solver.reached(f));
+  }
+  return on_plants;
+}
+
 // Levenberg-Marquardt over a base correction with a finite-difference Jacobian, shared by the two pelvis
 // searches below. `evaluate(c, r)` fills the residual r and returns ‖r‖² + kBasePrior ‖c − centre‖²; each
 // candidate step passes through `filter`; the search stops after `iterations`, when `done()`, or when no step
@@ -425,7 +459,6 @@ std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover
   std::vector<bool> planted(foot_count);
   std::vector<Eigen::Isometry3d> relative(foot_count), roots(foot_count), frame_targets(foot_count);
   Eigen::VectorXd frame_q(nq), legs(nq), previous_legs(nq), scratch_q(nq);
-  Eigen::Matrix<double, 6, 1> error;
   Eigen::VectorXd residual, trial;
   Eigen::MatrixXd jacobian;
   constexpr int kPasses = 6, kIterations = 12;
@@ -448,24 +481,12 @@ std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover
       workspace.setQ(frame_q);
       const Eigen::Isometry3d base = workspace.findLinkPose(base_link);
       for (size_t f = 0; f < foot_count; ++f) relative[f] = base.inverse() * workspace.findLinkPose(chains[f].root_link);
-      // The planted legs' pose errors (LegSolver::poseError, stacked) with the base moved by `correction`,
-      // the legs solved from frame_q's; `reached` and `legs` say where they got. Returns the LM cost.
+      // The LM cost with the base moved by `correction`, the legs solved from frame_q's; `reached` and `legs`
+      // say where they got.
       bool reached = true;
       const auto evaluate = [&](const Vector6d& correction, Eigen::VectorXd& r) {
-        const Eigen::Isometry3d moved = Apply(AsCorrection(correction), base);
-        for (size_t f = 0; f < foot_count; ++f) roots[f] = moved * relative[f];
-        legs = frame_q;
-        solver.solveFromRoots(roots, frame_targets, planted, legs, 0.0);
-        r.resize(rows);
-        int row = 0;
-        reached = true;
-        for (size_t f = 0; f < foot_count; ++f) {
-          if (!planted[f]) continue;
-          solver.poseError(frame_targets[f], solver.reached(f), error);
-          r.segment<6>(row) = error, row += 6;
-          const Correction off = Between(frame_targets[f], solver.reached(f));
-          reached = reached && off.translation.norm() < kPlantPositionTolerance && off.rotation.norm() < kPlantAngleTolerance;
-        }
+        reached = SolvePlantedLegs(solver, base, correction, relative, frame_targets, planted, rows, frame_q, nullptr, 0.0,
+                                   nullptr, roots, legs, r);
         return r.squaredNorm() + kBasePrior * correction.squaredNorm();
       };
       // Where to start the legs. A plant the previous frame's legs reach without a move needs none: the final
@@ -505,12 +526,6 @@ std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover
   return total;
 }
 
-// The legs' speed limits rank below contacts too: where a planted leg, each joint within its velocity limit
-// of the previous frame, cannot hold its plant from the pelvis the pass above left (HRP-4C's legs turn at
-// 1.9-3 rad/s; a person's pelvis moves faster over a planted foot), the pelvis moves this frame by the least
-// turn and shift with which every planted leg holds its plant within those limits (Levenberg-Marquardt as in
-// BaseCorrections, the legs solved with their speed bounds), and the upper body with it. Returns whether it
-// moved; frame_q's legs are then to be solved again from the moved pelvis.
 // HoldPlantsWithinSpeed's Levenberg-Marquardt iterations per frame (10 took HRP-4C's 32 CMU walks and dances
 // 20 % longer for a stance drift median of 12.9 mm against 12.6 at 4), and the farthest its pelvis moves from
 // the tracking: further, HRP-4C's pelvis lagged its target by up to 0.8 m on CMU 94_06.
@@ -533,6 +548,13 @@ struct HoldScratch {
   Eigen::MatrixXd jacobian;
 };
 
+// The legs' speed limits rank below contacts too: where a planted leg, each joint within its velocity limit
+// of the previous frame, cannot hold its plant from the pelvis the pass above left (HRP-4C's legs turn at
+// 1.9-3 rad/s; a person's pelvis moves faster over a planted foot), the pelvis moves this frame by the least
+// turn and shift with which every planted leg holds its plant within those limits (Levenberg-Marquardt as in
+// BaseCorrections, the legs solved with their speed bounds), and the upper body with it; `carried` is the
+// move the previous frames made, which the search pulls back towards none. Returns whether it moved (by
+// `moved`); frame_q's legs are then to be solved again from the moved pelvis.
 bool HoldPlantsWithinSpeed(const BaseMover& mover, Workspace& workspace, LegSolver& solver, const std::vector<LegChain>& chains,
                            const std::vector<Eigen::Isometry3d>& targets, const std::vector<bool>& planted,
                            const Eigen::VectorXd& before, double step_time, const std::vector<bool>& unbounded,
@@ -544,27 +566,16 @@ bool HoldPlantsWithinSpeed(const BaseMover& mover, Workspace& workspace, LegSolv
   for (size_t f = 0; f < chains.size(); ++f) {
     if (!planted[f]) continue;
     rows += 6;
-    const Correction off = Between(targets[f], solver.reached(f));
-    missing = missing || off.translation.norm() > kPlantPositionTolerance || off.rotation.norm() > kPlantAngleTolerance;
+    missing = missing || !OnPlant(targets[f], solver.reached(f));
   }
   if (!missing) return false;
   workspace.setQ(frame_q);
   const Eigen::Isometry3d base = workspace.findLinkPose(mover.link());
   scratch.relative.resize(chains.size()), scratch.roots.resize(chains.size());
   for (size_t f = 0; f < chains.size(); ++f) scratch.relative[f] = base.inverse() * workspace.findLinkPose(chains[f].root_link);
-  Eigen::Matrix<double, 6, 1> error;
   const auto evaluate = [&](const Vector6d& correction, Eigen::VectorXd& r) {
-    const Eigen::Isometry3d at = Apply(AsCorrection(correction), base);
-    for (size_t f = 0; f < chains.size(); ++f) scratch.roots[f] = at * scratch.relative[f];
-    scratch.legs = frame_q;
-    solver.solveFromRoots(scratch.roots, targets, planted, scratch.legs, 0.0, &before, step_time, &unbounded);
-    r.resize(rows);
-    int row = 0;
-    for (size_t f = 0; f < chains.size(); ++f) {
-      if (!planted[f]) continue;
-      solver.poseError(targets[f], solver.reached(f), error);
-      r.segment<6>(row) = error, row += 6;
-    }
+    SolvePlantedLegs(solver, base, correction, scratch.relative, targets, planted, rows, frame_q, &before, step_time,
+                     &unbounded, scratch.roots, scratch.legs, r);
     return r.squaredNorm() + kBasePrior * (carried + correction).squaredNorm();
   };
   Vector6d correction = Vector6d::Zero();
@@ -584,6 +595,38 @@ bool HoldPlantsWithinSpeed(const BaseMover& mover, Workspace& workspace, LegSolv
   mover.apply(correction, frame_q);
   moved = correction;
   return true;
+}
+
+// Touchdown: the plant is where the foot touched down. Where the leg's speed limits kept the foot from the
+// planned plant at a phase's first frame `t` (HRP-4C's legs, 1.9-3 rad/s, cannot swing at a person's pace),
+// the plant moves to the reached pose laid flat, for the whole phase, and the move eases out over `blend`
+// after it; the foot then stays where it landed instead of sliding on to the plan. Returns the plants moved.
+int PlantWhereTouchedDown(const std::vector<SoleGeometry>& soles, const FootContacts& contacts,
+                          const std::vector<std::vector<int>>& phase_begins, const std::vector<double>& time_s, double blend,
+                          const LegSolver& solver, const std::vector<bool>& active, int64_t t,
+                          std::vector<std::vector<Eigen::Isometry3d>>& target, std::vector<std::vector<bool>>& changed) {
+  const int64_t frames = static_cast<int64_t>(time_s.size());
+  int moved = 0;
+  for (size_t f = 0; f < soles.size(); ++f) {
+    const int p = phase_begins[f][static_cast<size_t>(t)];
+    if (p < 0 || !active[f]) continue;
+    const Eigen::Isometry3d& reached = solver.reached(f);
+    const Eigen::Isometry3d& plan = target[f][static_cast<size_t>(t)];
+    if (OnPlant(plan, reached)) continue;
+    const Eigen::Vector3d centre = reached * soles[f].centre;
+    const Correction shift = Between(PlantedPose(soles[f], centre.x(), centre.y(), Yaw(reached.linear(), soles[f])), plan);
+    const ContactPhase& phase = contacts.phases[static_cast<size_t>(p)];
+    for (int64_t s = t; s < phase.end; ++s) target[f][static_cast<size_t>(s)] = Apply(shift, target[f][static_cast<size_t>(s)]);
+    const double end_time = time_s[static_cast<size_t>(phase.end - 1)];
+    for (int64_t s = phase.end; s < frames && time_s[static_cast<size_t>(s)] - end_time < blend; ++s) {
+      if (contacts.at(s, static_cast<int>(f))) break;
+      const double w = Ease((time_s[static_cast<size_t>(s)] - end_time) / blend);
+      target[f][static_cast<size_t>(s)] = Apply({w * shift.translation, w * shift.rotation}, target[f][static_cast<size_t>(s)]);
+      changed[f][static_cast<size_t>(s)] = true;
+    }
+    ++moved;
+  }
+  return moved;
 }
 
 }  // namespace
@@ -820,30 +863,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       out.worst_position_error = solved.position_error, out.worst_frame = t;
     }
     out.worst_angle_error = std::max(out.worst_angle_error, solved.angle_error);
-    // Touchdown: the plant is where the foot touched down. Where the leg's speed limits kept the foot from
-    // the planned plant at the phase's first frame (HRP-4C's legs, 1.9-3 rad/s, cannot swing at a person's
-    // pace), the plant moves to the reached pose laid flat, for the whole phase, and the correction eases
-    // out over the blend after it; the foot then stays where it landed instead of sliding on to the plan.
-    for (size_t f = 0; f < foot_count; ++f) {
-      const int p = phase_begins[f][static_cast<size_t>(t)];
-      if (p < 0 || !active[f]) continue;
-      const Eigen::Isometry3d& reached = solver.reached(f);
-      const Eigen::Isometry3d& plan = target[f][static_cast<size_t>(t)];
-      const Correction off = Between(plan, reached);
-      if (off.translation.norm() < kPlantPositionTolerance && off.rotation.norm() < kPlantAngleTolerance) continue;
-      const Eigen::Vector3d centre = reached * soles[f].centre;
-      const Correction shift = Between(PlantedPose(soles[f], centre.x(), centre.y(), Yaw(reached.linear(), soles[f])), plan);
-      const ContactPhase& phase = contacts.phases[static_cast<size_t>(p)];
-      for (int64_t s = t; s < phase.end; ++s) target[f][static_cast<size_t>(s)] = Apply(shift, target[f][static_cast<size_t>(s)]);
-      const double end_time = time_s[static_cast<size_t>(phase.end - 1)];
-      for (int64_t s = phase.end; s < frames && time_s[static_cast<size_t>(s)] - end_time < options.blend; ++s) {
-        if (contacts.at(s, static_cast<int>(f))) break;
-        const double w = Ease((time_s[static_cast<size_t>(s)] - end_time) / options.blend);
-        target[f][static_cast<size_t>(s)] = Apply({w * shift.translation, w * shift.rotation}, target[f][static_cast<size_t>(s)]);
-        changed[f][static_cast<size_t>(s)] = true;
-      }
-      ++out.moved_plants;
-    }
+    out.moved_plants += PlantWhereTouchedDown(soles, contacts, phase_begins, time_s, options.blend, solver, active, t, target, changed);
     std::copy(frame_q.data(), frame_q.data() + nq, q.begin() + t * nq);
     previous = frame_q, previous_frame = t;
   }
