@@ -401,7 +401,9 @@ bool SolvePlantedLegs(LegSolver& solver, const Eigen::Isometry3d& base, const Ve
 }
 
 // Levenberg-Marquardt over a base correction with a finite-difference Jacobian, shared by the two pelvis
-// searches below. `evaluate(c, r)` fills the residual r and returns ‖r‖² + kBasePrior ‖c − centre‖²; each
+// searches below. `evaluate(c, r, nudge)` fills the residual r and returns ‖r‖² + kBasePrior ‖c − centre‖²;
+// `nudge` marks the Jacobian's evaluations, a step of kBaseStep from the point last evaluated without it (the
+// current one), so that the caller may start their legs from that point's answer; each
 // candidate step passes through `filter`; the search stops after `iterations`, when `done()`, or when no step
 // lowers the cost. On entry `correction`, `residual` and `cost` are the start; on exit the best found.
 constexpr double kBasePrior = 1e-6, kBaseStep = 1e-6;  // the pull towards `centre`; the finite-difference step
@@ -416,7 +418,7 @@ void DescendOverBase(const Evaluate& evaluate, const Vector6d& centre, const Fil
     for (int i = 0; i < 6; ++i) {
       Vector6d nudged = correction;
       nudged[i] += kBaseStep;
-      evaluate(nudged, trial);
+      evaluate(nudged, trial, true);
       jacobian.col(i) = (trial - residual) / kBaseStep;
     }
     const Eigen::Matrix<double, 6, 6> normal = jacobian.transpose() * jacobian;
@@ -427,7 +429,7 @@ void DescendOverBase(const Evaluate& evaluate, const Vector6d& centre, const Fil
       damped.diagonal().array() += damping + kBasePrior;
       Vector6d candidate = correction - damped.ldlt().solve(gradient);
       filter(candidate);
-      const double candidate_cost = evaluate(candidate, trial);  // last: the caller's state is its
+      const double candidate_cost = evaluate(candidate, trial, false);  // last: the caller's state is its
       if (candidate_cost < cost) {
         improved = true, cost = candidate_cost, correction = candidate, residual = trial;
         damping = std::max(damping / 3.0, 1e-9);
@@ -458,7 +460,7 @@ std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover
   std::vector<Vector6d> need(static_cast<size_t>(frames));
   std::vector<bool> planted(foot_count);
   std::vector<Eigen::Isometry3d> relative(foot_count), roots(foot_count), frame_targets(foot_count);
-  Eigen::VectorXd frame_q(nq), legs(nq), previous_legs(nq), scratch_q(nq);
+  Eigen::VectorXd frame_q(nq), legs(nq), previous_legs(nq), scratch_q(nq), point_legs(nq);
   Eigen::VectorXd residual, trial;
   Eigen::MatrixXd jacobian;
   constexpr int kPasses = 6, kIterations = 12;
@@ -481,12 +483,14 @@ std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover
       workspace.setQ(frame_q);
       const Eigen::Isometry3d base = workspace.findLinkPose(base_link);
       for (size_t f = 0; f < foot_count; ++f) relative[f] = base.inverse() * workspace.findLinkPose(chains[f].root_link);
-      // The LM cost with the base moved by `correction`, the legs solved from frame_q's; `reached` and `legs`
-      // say where they got.
+      // The LM cost with the base moved by `correction`, the legs solved from frame_q's (a Jacobian nudge's
+      // from the current point's answer, a step away: a few iterations instead of a whole solve); `reached`
+      // and `legs` say where they got.
       bool reached = true;
-      const auto evaluate = [&](const Vector6d& correction, Eigen::VectorXd& r) {
-        reached = SolvePlantedLegs(solver, base, correction, relative, frame_targets, planted, rows, frame_q, nullptr, 0.0,
-                                   nullptr, roots, legs, r);
+      const auto evaluate = [&](const Vector6d& correction, Eigen::VectorXd& r, bool nudge) {
+        const bool on_plants = SolvePlantedLegs(solver, base, correction, relative, frame_targets, planted, rows,
+                                                nudge ? point_legs : frame_q, nullptr, 0.0, nullptr, roots, legs, r);
+        if (!nudge) reached = on_plants, point_legs = legs;
         return r.squaredNorm() + kBasePrior * correction.squaredNorm();
       };
       // Where to start the legs. A plant the previous frame's legs reach without a move needs none: the final
@@ -495,11 +499,11 @@ std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover
       // tracked legs: from a previous answer held on a hip-yaw limit, CMU 94_07's deep-squat pivots asked for
       // moves that left its plants further off.
       Vector6d correction = Vector6d::Zero();
-      double cost = evaluate(correction, residual);
+      double cost = evaluate(correction, residual, false);
       if (!reached && t - 1 == previous_frame) {
         scratch_q = frame_q;
         ContinueLegs(chains, previous_legs, true, false, frame_q);
-        evaluate(correction, trial);
+        evaluate(correction, trial, false);
         frame_q = scratch_q;
       }
       if (reached) {
@@ -508,7 +512,7 @@ std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover
       }
       DescendOverBase(evaluate, Vector6d::Zero(), [](Vector6d&) {}, [&] { return reached; }, kIterations, correction, residual,
                       cost, trial, jacobian);
-      evaluate(correction, residual);  // the legs at the correction taken, for the next frame's start
+      evaluate(correction, residual, false);  // the legs at the correction taken, for the next frame's start
       previous_legs = legs, previous_frame = t;
       out = correction;
       any = true;
@@ -544,7 +548,7 @@ void LimitBaseStep(Vector6d& step) {
 // Scratch of HoldPlantsWithinSpeed, sized once per take: nothing is allocated per frame.
 struct HoldScratch {
   std::vector<Eigen::Isometry3d> relative, roots;
-  Eigen::VectorXd legs, residual, trial;
+  Eigen::VectorXd legs, point_legs, residual, trial;
   Eigen::MatrixXd jacobian;
 };
 
@@ -573,14 +577,15 @@ bool HoldPlantsWithinSpeed(const BaseMover& mover, Workspace& workspace, LegSolv
   const Eigen::Isometry3d base = workspace.findLinkPose(mover.link());
   scratch.relative.resize(chains.size()), scratch.roots.resize(chains.size());
   for (size_t f = 0; f < chains.size(); ++f) scratch.relative[f] = base.inverse() * workspace.findLinkPose(chains[f].root_link);
-  const auto evaluate = [&](const Vector6d& correction, Eigen::VectorXd& r) {
-    SolvePlantedLegs(solver, base, correction, scratch.relative, targets, planted, rows, frame_q, &before, step_time,
-                     &unbounded, scratch.roots, scratch.legs, r);
+  const auto evaluate = [&](const Vector6d& correction, Eigen::VectorXd& r, bool nudge) {
+    SolvePlantedLegs(solver, base, correction, scratch.relative, targets, planted, rows, nudge ? scratch.point_legs : frame_q,
+                     &before, step_time, &unbounded, scratch.roots, scratch.legs, r);
+    if (!nudge) scratch.point_legs = scratch.legs;
     return r.squaredNorm() + kBasePrior * (carried + correction).squaredNorm();
   };
   Vector6d correction = Vector6d::Zero();
   Eigen::VectorXd& residual = scratch.residual;
-  double cost = evaluate(correction, residual);
+  double cost = evaluate(correction, residual, false);
   const double start_cost = cost;
   // Held as soon as a step brings the plants within a millimetre (not before the first: a plant may miss by
   // its angle alone, which that norm does not see).
