@@ -281,10 +281,10 @@ TEST(RetargetSameRobotRoundTrip, EveryG1MotionComesBackToItsJointAngles) {
       //    bound (p95 0.25, max 1.98) and the dance nearly (0.44, 2.56); the jumping jack's raised arm, near
       //    its shoulder's gimbal lock, still leaves 34°. A 10x lower weight doubled the IK's iterations on
       //    CMU captures and raised their P1 error, so it was not taken.
-      //  - with it (the default; median 0.26-0.80, p95 10.4-14.3, max 30-61 deg; before: median 0.5-3.2,
-      //    p95 12.0-15.4, max 29.5-39.5): the Kimodo motions' own
-      //    planted feet slide 8-25 mm and stand up to 3.8 cm below the map's soles, so exact contacts must
-      //    bend their legs, and planted knees are kept bent >= 0.15 rad (--stance-knee).
+      //  - with it (the default; median 0.27-0.81, p95 9.9-15.6, max 37-39 deg, 2026-11-26): the Kimodo
+      //    motions' own planted soles slide 13-39 mm a phase, tilt 3-5° (median) and up to 34°, and dip up to
+      //    38 mm into the floor, so exact contacts must bend their legs. On a motion that keeps its contacts
+      //    the enforcement adds nothing (next test).
       // The verdict is printed; what is asserted is today's level, so nothing gets worse unnoticed.
       const bool met = errors.p95 <= 0.5 && errors.max <= 2.0;
       std::cout << "    issue 17 round-trip bound (p95 <= 0.5, max <= 2 deg): " << (met ? "met" : "NOT met") << "\n";
@@ -293,6 +293,80 @@ TEST(RetargetSameRobotRoundTrip, EveryG1MotionComesBackToItsJointAngles) {
       EXPECT_LE(errors.max, enforce ? 65.0 : 40.0) << stem << ": joint error max (deg), " << errors.worst_joint
                                                    << " at CSV frame " << errors.worst_frame;
     }
+  }
+}
+
+// Markers from `frames` (frame 0 the reference stance), retargeted with reference_time = 0.
+MotionData RetargetVirtualMarkers(const Model& model, const RobotMap& map, const std::vector<Eigen::VectorXd>& frames,
+                                  const std::string& markers, const std::string& urdf, const std::string& map_path,
+                                  const std::string& markerset, bool enforce, RetargetSummary* summary = nullptr) {
+  {
+    IntermediateWriter writer(markers, {kMarkersSchema, kMarkersSchemaVersion, "test", {}, nlohmann::json::array()});
+    WriteMarkerData(writer, VirtualMarkers(model, map, frames));
+    writer.commit();
+  }
+  RetargetOptions options;
+  options.model = urdf;
+  options.robot_map = map_path;
+  options.markerset = markerset;
+  options.reference_time = 0;
+  options.enforce_contacts = enforce;
+  return RetargetFile(markers, options, summary);
+}
+
+// The Kimodo motions break the contacts they are asked to keep (their planted soles slide 13-39 mm a phase,
+// tilt up to 34° and dip up to 38 mm into the floor), so their round trip above measures what the contacts
+// must change as much as what the retargeter gets wrong. Here the source is a G1 motion that keeps them: each
+// Kimodo motion as the stage retargets it with its contacts enforced (soles flat and still, none in the
+// floor), round-tripped again. On such a motion the enforcement must change nothing the IK alone would not:
+// what remains is the IK and refinement smoothing the Kimodo motions' jerky knees (0.34 -> 0.12 -> 0.65 rad
+// in three frames of the walk; --smoothing 0.1 takes the walk's p95 from 0.61 to 0.14 deg).
+TEST(RetargetSameRobotRoundTrip, AMotionThatKeepsItsContactsComesBackAsTheIkAloneBringsIt) {
+  SYN_REQUIRE_SHARED("robot_motion");
+  const std::vector<fs::path> motions = G1Motions();
+  ASSERT_FALSE(motions.empty()) << "no g1_*.csv in " << testing::SharedPath("robot_motion");
+  const std::string urdf = testing::SourcePath(testing::kG1Urdf), map_path = testing::SourcePath(testing::kG1Map);
+  const RobotMap map = LoadRobotMap(map_path);
+  const Model model = LoadModel(urdf, map.floating_base);
+  const ScratchDir scratch;
+  const std::string markerset = (scratch.path / "g1-virtual.toml").string();
+  std::ofstream(markerset) << VirtualMarkerSet(map);
+  const Eigen::VectorXd reference = testing::StandingZeroPose(model, map);
+  const int64_t nq = model.nq();
+  for (const fs::path& file : motions) {
+    SCOPED_TRACE(file.string());
+    const std::string stem = file.stem().string();
+    const MotionData csv = ReadRobotCsv(file.string(), model, kRate);
+    std::vector<Eigen::VectorXd> frames = {reference};
+    for (int64_t t = 0; t < csv.frames(); ++t) frames.push_back(Eigen::Map<const Eigen::VectorXd>(&csv.q[static_cast<size_t>(t * nq)], nq));
+    RetargetSummary kept;
+    const MotionData enforced = RetargetVirtualMarkers(model, map, frames, (scratch.path / (stem + ".markers.h5")).string(),
+                                                       urdf, map_path, markerset, true, &kept);
+    ASSERT_EQ(enforced.nq(), nq);
+    EXPECT_LE(kept.max_drift, 0.005) << stem << ": the enforced motion's planted soles are still (m)";
+    EXPECT_LE(kept.deepest_penetration, 0.005) << stem << ": and out of the floor (m)";
+    // The contact-keeping source: the enforced motion without its first frame (the prepended reference).
+    MotionData source;
+    source.coordinate_names = enforced.coordinate_names;
+    source.time_s.assign(enforced.time_s.begin() + 1, enforced.time_s.end());
+    source.q.assign(enforced.q.begin() + nq, enforced.q.end());
+    frames = {reference};
+    for (int64_t t = 0; t < source.frames(); ++t) frames.push_back(Eigen::Map<const Eigen::VectorXd>(&source.q[static_cast<size_t>(t * nq)], nq));
+    JointErrors errors[2];
+    for (const bool enforce : {true, false}) {
+      const MotionData back = RetargetVirtualMarkers(model, map, frames, (scratch.path / (stem + ".kept.markers.h5")).string(),
+                                                     urdf, map_path, markerset, enforce);
+      ASSERT_EQ(back.frames(), source.frames() + 1);
+      errors[enforce] = Compare(source, back);
+      std::cout << stem << " keeping its contacts" << (enforce ? " [enforce_contacts]   " : " [no enforcement]    ")
+                << Describe(errors[enforce]) << "\n";
+    }
+    // Measured 2026-11-26, p95/max deg with enforcement (without): walk 0.61/10.3 (1.29/24.4), dance 1.42/7.8
+    // (1.61/31.6), jumping jack 5.8/22.4 (6.6/33.5); the issue's bound (0.5/2) is met by none yet.
+    EXPECT_LE(errors[true].p95, errors[false].p95 + 0.1) << stem << ": the enforcement changed a motion that keeps its contacts";
+    EXPECT_LE(errors[true].max, errors[false].max + 1.0) << stem;
+    EXPECT_LE(errors[true].median, 0.5) << stem;
+    EXPECT_LE(errors[true].p95, 8.0) << stem;
   }
 }
 
