@@ -1,11 +1,51 @@
 // syn-retarget IN.markers.h5 -o OUT.motion.h5 --model ROBOT.urdf --robot-map MAP.toml --markerset SET.toml
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <numeric>
+#include <string>
+#include <vector>
 
 #include "common/cli.h"
 #include "common/intermediate_file.h"
 #include "common/motion_file.h"
 #include "stages/retarget/retarget.h"
+
+namespace {
+
+// -v: where a landmark is furthest from its target, by position (part 0, m) or angle (part 1, rad): the
+// `count` worst frames at least `apart` seconds from each other (neighbouring frames of one bad stretch would
+// fill the list), each with its landmark, so a user knows which frames to look at first.
+void PrintWorstFrames(const syn::MotionData& motion, int part, size_t count, double apart) {
+  const size_t landmarks = motion.landmark_names.size(), frames = static_cast<size_t>(motion.frames());
+  if (landmarks == 0 || motion.landmark_error.size() != frames * landmarks * 2) return;
+  std::vector<double> worst(frames, -1.0);
+  std::vector<size_t> which(frames, 0);
+  for (size_t t = 0; t < frames; ++t) {
+    for (size_t l = 0; l < landmarks; ++l) {
+      const double error = motion.landmark_error[(t * landmarks + l) * 2 + static_cast<size_t>(part)];
+      if (std::isfinite(error) && error > worst[t]) worst[t] = error, which[t] = l;
+    }
+  }
+  std::vector<size_t> order(frames);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return worst[a] > worst[b]; });
+  std::vector<size_t> chosen;
+  for (const size_t t : order) {
+    if (chosen.size() == count || worst[t] < 0) break;
+    const bool near = std::any_of(chosen.begin(), chosen.end(), [&](size_t c) {
+      return std::abs(motion.time_s[c] - motion.time_s[t]) < apart;
+    });
+    if (near) continue;
+    chosen.push_back(t);
+    std::cerr << "syn-retarget: worst " << (part == 0 ? "position" : "angle") << " error #" << chosen.size() << ": frame "
+              << t << " (t = " << motion.time_s[t] << " s), " << motion.landmark_names[which[t]] << " "
+              << (part == 0 ? worst[t] * 1000 : worst[t] * 180 / M_PI) << (part == 0 ? " mm" : " deg") << "\n";
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Retarget a capture onto a humanoid: landmark poses relative to the reference stance, scaled by "
@@ -189,6 +229,8 @@ int main(int argc, char** argv) {
         std::cerr << "syn-retarget: deepest sole point " << summary.deepest_penetration * 1000 << " mm below the floor at frame "
                   << summary.deepest_frame << "\n";
       }
+      PrintWorstFrames(motion, 0, 5, 0.25);
+      PrintWorstFrames(motion, 1, 5, 0.25);
     }
   });
 }
