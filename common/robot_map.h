@@ -47,6 +47,9 @@ struct RobotMap {
   // How the retargeter scales a capture onto this robot unless told (--proportions): "height" or "chains"
   // (stages/retarget/stance_alignment.h).
   std::string proportions = "height";
+  // rad: how far a planted foot may pitch with the source about its heel or toe edge (heel strike, toe-off)
+  // instead of lying flat, unless told (--max-roll); 0: flat (stages/retarget/contact_enforcement.h).
+  double max_roll = 0.0;
   std::vector<RobotTask> tasks;
   std::array<double, 3> priority_weights = {1.0, 0.1, 0.001};
   int posture_priority = 3;

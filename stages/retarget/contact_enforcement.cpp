@@ -66,14 +66,17 @@ double LowestPoint(const SoleGeometry& sole, const Eigen::Isometry3d& pose) {
   return lowest;
 }
 
-// Where the leg's joint limits leave the reached foot pitched against its target (late in stance the body
-// passes over the planted foot further than the ankle bends), the target is rolled about the sole edge
-// the foot pitches onto (the toe line when the toes go down, the heel line when the heel does) by that
-// pitch: the other end lifts instead of going through the floor, as a human foot rolls off its toes.
-Eigen::Isometry3d RollAboutSoleEdge(const SoleGeometry& sole, const Eigen::Isometry3d& target, const Eigen::Isometry3d& reached) {
+// How far `pose` pitches from `target` about the sole's lateral axis (> 0: toes down), rad.
+double PitchFrom(const SoleGeometry& sole, const Eigen::Isometry3d& target, const Eigen::Isometry3d& pose) {
   const Eigen::Vector3d lateral = target.linear() * sole.normal.cross(sole.forward);
-  const Eigen::AngleAxisd between(reached.linear() * target.linear().transpose());
-  const double pitch = (between.axis() * between.angle()).dot(lateral);  // > 0: toes down
+  const Eigen::AngleAxisd between(pose.linear() * target.linear().transpose());
+  return (between.axis() * between.angle()).dot(lateral);
+}
+
+// `target` rolled by `pitch` about the sole edge it pitches onto (the toe line for toes down, the heel line
+// for heel down): that edge stays put and the other end lifts.
+Eigen::Isometry3d RollBy(const SoleGeometry& sole, const Eigen::Isometry3d& target, double pitch) {
+  const Eigen::Vector3d lateral = target.linear() * sole.normal.cross(sole.forward);
   double extreme = pitch > 0 ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3d& point : sole.points) {
     const double along = point.dot(sole.forward);
@@ -90,6 +93,14 @@ Eigen::Isometry3d RollAboutSoleEdge(const SoleGeometry& sole, const Eigen::Isome
   rolled.linear() = roll * target.linear();
   rolled.translation() = pivot + roll * (target.translation() - pivot);
   return rolled;
+}
+
+// Where the leg's joint limits leave the reached foot pitched against its target (late in stance the body
+// passes over the planted foot further than the ankle bends), the target is rolled about the sole edge
+// the foot pitches onto by that pitch: the other end lifts instead of going through the floor, as a human
+// foot rolls off its toes.
+Eigen::Isometry3d RollAboutSoleEdge(const SoleGeometry& sole, const Eigen::Isometry3d& target, const Eigen::Isometry3d& reached) {
+  return RollBy(sole, target, PitchFrom(sole, target, reached));
 }
 
 // A pose correction: translation and rotation vector, both in the ground frame.
@@ -119,10 +130,16 @@ constexpr double kFloorTolerance = 0.5e-3;  // m below z = 0 that a reached sole
 // 1 at x = 0 down to 0 at x = 1, with zero slope at both ends.
 double Ease(double x) { return x >= 1.0 ? 0.0 : x <= 0.0 ? 1.0 : 1.0 - x * x * (3.0 - 2.0 * x); }
 
+// s: how long from a contact phase's ends a planted foot may roll with the source. The heel strike's loading
+// response and the toe-off's pre-swing each last about a tenth of a walking gait cycle (Perry's gait phases),
+// 0.1 s at a 1 s cycle; further in, the foot is flat (rolling through whole phases let CMU dance 05_02's
+// feet pivot on their edges, its knees reaching their 20 rad/s limit and its foot skating 0.195 -> 0.23).
+constexpr double kRollWindow = 0.1;
+
 // Every frame's target for foot `foot`: its free pose, corrected towards its phases' planted poses and raised
 // out of the floor. `corrected[t]` is set where either happened.
 void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>& free, const std::vector<ContactPhase>& phases,
-                 int foot, const std::vector<double>& time_s, double blend, bool roll_with_source,
+                 int foot, const std::vector<double>& time_s, double blend, double max_roll,
                  std::vector<Eigen::Isometry3d>& target, std::vector<bool>& corrected) {
   const size_t frames = free.size();
   std::vector<Correction> correction(frames);
@@ -131,6 +148,7 @@ void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>&
     if (phase.foot == foot) own.push_back(&phase);
   }
   std::sort(own.begin(), own.end(), [](const ContactPhase* a, const ContactPhase* b) { return a->begin < b->begin; });
+  std::vector<double> phase_pitch;
   for (const ContactPhase* phase : own) {
     double x = 0, y = 0, sine = 0, cosine = 0;
     for (int64_t t = phase->begin; t < phase->end; ++t) {
@@ -142,13 +160,27 @@ void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>&
     }
     const double n = static_cast<double>(phase->end - phase->begin);
     const Eigen::Isometry3d planted = PlantedPose(sole, x / n, y / n, std::atan2(sine, cosine));
-    // Heel strike and toe-off (roll_with_source): where the source foot pitches within the phase, the plant
-    // rolls about the heel or toe edge with it (that edge stays put on the floor) instead of being held flat,
-    // which bends the ankle by the whole pitch (up to 40° on the same-robot round trip). The sole centre then
-    // moves with the roll (10-20 mm on CMU walks), so it is off by default.
+    // Heel strike and toe-off (max_roll > 0): near the phase's ends, where the source foot pitches, the plant
+    // rolls about the heel or toe edge with it (that edge stays put on the floor) instead of being held flat.
+    // Held flat through a toe-off, the leg stretches while the source's knee bends, then flexes at once when
+    // the foot lifts: CMU 02_01's knee reversed from -6 to +10 rad/s in one frame, 18.9 rad/s at most within 4
+    // frames of a phase boundary (11.4 with G1's max_roll of 0.2 rad). The roll is the source's pitch from its
+    // median over the phase, the foot's flat stance (a capture's foot landmark need not lie along the sole:
+    // CMU's BVH foot pitches 18-37° toes down through 02_01's stances, and rolled by its whole pitch the robot
+    // stood on its toes all stance), at most max_roll, fading to none kRollWindow from either end. The sole
+    // centre moves with the roll, by (1 − cos max_roll) × its distance from the edge (G1: under 2 mm).
+    std::vector<double>& pitch = phase_pitch;
+    pitch.clear();
+    for (int64_t t = phase->begin; t < phase->end && max_roll > 0; ++t) pitch.push_back(PitchFrom(sole, planted, free[static_cast<size_t>(t)]));
+    const double flat = pitch.empty() ? 0.0 : NearestRankPercentile(pitch, 0.5);
+    const double first = time_s[static_cast<size_t>(phase->begin)], last = time_s[static_cast<size_t>(phase->end - 1)];
     for (int64_t t = phase->begin; t < phase->end; ++t) {
       const Eigen::Isometry3d& source = free[static_cast<size_t>(t)];
-      correction[static_cast<size_t>(t)] = Between(roll_with_source ? RollAboutSoleEdge(sole, planted, source) : planted, source);
+      const double now = time_s[static_cast<size_t>(t)];
+      const double cap = max_roll * Ease(std::min(now - first, last - now) / kRollWindow);
+      const Eigen::Isometry3d plant =
+          cap > 0 ? RollBy(sole, planted, std::clamp(PitchFrom(sole, planted, source) - flat, -cap, cap)) : planted;
+      correction[static_cast<size_t>(t)] = Between(plant, source);
     }
   }
   // Between phases: each neighbouring phase's boundary correction, eased out over `blend` or the gap.
@@ -642,6 +674,7 @@ bool ContactEnforcementOptions::IsValid(std::string* error) const {
     return false;
   };
   if (!(blend >= 0)) return fail("--contact-blend must be >= 0 s");
+  if (!(max_roll >= 0 && max_roll <= M_PI / 2)) return fail("--max-roll must be in [0, pi/2] rad");
   if (!(stance_knee >= 0 && stance_knee < 1.5)) return fail("--stance-knee must be in [0, 1.5) rad");
   if (!(max_lowering >= 0 && max_lowering < 1)) return fail("--max-lowering must be in [0, 1) (a fraction of the leg)");
   if (!(lowering_smoothing >= 0)) return fail("--lowering-smoothing must be >= 0 s");
@@ -687,7 +720,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   const double dt = frames > 1 ? (time_s.back() - time_s.front()) / static_cast<double>(frames - 1) : 1.0;
   KeepSourceClearance(soles, contacts, source_feet, level, static_cast<int64_t>(std::lround(kClearanceSmoothing / std::max(dt, 1e-9))), free);
   for (size_t f = 0; f < foot_count; ++f) {
-    FootTargets(soles[f], free[f], contacts.phases, static_cast<int>(f), time_s, options.blend, options.roll_with_source,
+    FootTargets(soles[f], free[f], contacts.phases, static_cast<int>(f), time_s, options.blend, options.max_roll,
                 target[f], corrected[f]);
     changed[f].resize(static_cast<size_t>(frames));
     for (int64_t t = 0; t < frames; ++t) {

@@ -19,9 +19,11 @@
 //    z = 0 and does not move: its yaw is the circular mean of the foot's yaw over
 //    the phase and its sole centre the mean of the sole centre's horizontal
 //    position (of the free poses), so the plant sits where the source put the
-//    foot and the correction is as small as it can be. With `roll_with_source`,
-//    where the source foot pitches within the phase (heel strike, toe-off), the
-//    plant rolls with it about its heel or toe edge, which stays put on the floor.
+//    foot and the correction is as small as it can be. With `max_roll` > 0,
+//    within 0.1 s of the phase's ends (heel strike, toe-off), the plant rolls
+//    about its heel or toe edge, which stays put on the floor, by the source
+//    foot's pitch from its median over the phase, at most max_roll (the robot
+//    map's max_roll unless --max-roll says).
 // 2. Blending. Outside a phase the correction (planted pose ⊖ tracked pose, as a
 //    translation and a rotation vector) fades with a cubic ease over `blend`
 //    seconds, or over the gap to the next phase of that foot when it is shorter,
@@ -84,7 +86,9 @@ struct ContactEnforcementOptions {
   double stance_knee = 0.15;        // rad a corrected leg's knee keeps (human stance knees bend 5-20°)
   double max_lowering = 0.2;        // of the straight leg
   double lowering_smoothing = 0.2;  // s: 0.1 s bobbed the pelvis every step (bundled walk on the human model 4.0 W/kg; 3.7 at 0.2)
-  bool roll_with_source = false;    // planted feet pitch with the source about their heel or toe edge
+  // rad: planted feet pitch with the source about their heel or toe edge by at most this much near their
+  // phase's ends (step 1; 0: flat).
+  double max_roll = 0.0;
   // Where a planted foot is out of its leg's reach from the tracked pelvis (a leg joint on its limit), the
   // pelvis moves, by the least rotation and translation that lets every planted leg reach its plant
   // (step 3b), smoothed over `base_smoothing` seconds as the lowering is.

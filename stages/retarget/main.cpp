@@ -163,10 +163,24 @@ int main(int argc, char** argv) {
   app.add_option("--base-smoothing", options.enforcement.base_smoothing,
                  "Half-width (s) of the smoothing of the pelvis moves --move-base-for-plants makes")
       ->capture_default_str();
-  app.add_option("--roll-with-source", options.enforcement.roll_with_source,
-                 "Planted feet pitch with the source about their heel or toe edge (heel strike, toe-off) instead of "
-                 "staying flat; the sole centre then moves with the roll")
-      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--max-roll",
+         [&](const std::string& text) {
+           if (text == "map") {
+             options.max_roll.reset();
+             return;
+           }
+           char* end = nullptr;
+           const double value = std::strtod(text.c_str(), &end);
+           if (end == text.c_str() || *end != '\0' || !(value >= 0 && value <= M_PI / 2)) {
+             throw CLI::ValidationError("--max-roll", "must be map or an angle in [0, 1.5708] rad, not '" + text + "'");
+           }
+           options.max_roll = value;
+         },
+         "Planted feet pitch with the source about their heel or toe edge (heel strike, toe-off) by at most this "
+         "angle (rad) instead of lying flat; the sole centre moves with the roll. map: the robot map's max_roll "
+         "(0, flat, unless it says)")
+      ->default_str("map");
   app.add_option("--contacts-above-speed", options.enforcement.contacts_above_speed,
                  "A planted foot's leg may exceed its URDF velocity limits to keep the foot still (position limits "
                  "kept; a prototype: the legs jump where a contact phase begins). false: every leg joint within its "

@@ -633,6 +633,7 @@ bool RetargetOptions::HasValidValues(std::string* error) const {
   if (max_bridge < 0) return fail("--max-bridge must be >= 0");
   if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
   if (!(ik_function_tolerance > 0 && ik_function_tolerance < 1)) return fail("--ik-function-tolerance must be in (0, 1)");
+  if (max_roll && !(*max_roll >= 0 && *max_roll <= M_PI / 2)) return fail("--max-roll must be in [0, pi/2] rad");
   return contact.IsValid(error) && enforcement.IsValid(error) && contact_forces.IsValid(error);
 }
 
@@ -646,7 +647,7 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"contact_min_duration", contact.min_duration}, {"enforce_contacts", enforce_contacts},
           {"contact_blend", enforcement.blend}, {"stance_knee", enforcement.stance_knee},
           {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing},
-          {"roll_with_source", enforcement.roll_with_source}, {"contacts_above_speed", enforcement.contacts_above_speed},
+          {"max_roll", max_roll ? nlohmann::json(*max_roll) : nlohmann::json("map")}, {"contacts_above_speed", enforcement.contacts_above_speed},
           {"move_base_for_plants", enforcement.move_base_for_plants}, {"base_smoothing", enforcement.base_smoothing},
           {"heading_from_pelvis", heading_from_pelvis}, {"proportions", !proportions_per_chain ? "map" : *proportions_per_chain ? "chains" : "height"},
           {"friction", contact_forces.friction}, {"neutral_reference", neutral_reference}};
@@ -815,6 +816,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
     const auto enforce_start = std::chrono::steady_clock::now();
     ContactEnforcementOptions enforcement = options.enforcement;
     enforcement.velocity_limit_scale = options.velocity_limit_scale;
+    enforcement.max_roll = options.max_roll.value_or(map.max_roll);
     EnforceContacts(model, workspace, map.feet, contacts, SourceFootPoses(motion, foot_tasks),
                     vertical, motion.time_s, map.file, enforcement, motion.q, &report.enforcement);
     report.refinement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - enforce_start).count();

@@ -47,6 +47,8 @@ struct RetargetOptions {
   // head-height ratio (stance_alignment.h says why it is not yet the default); unset: the robot map's
   // proportions.
   std::optional<bool> proportions_per_chain;
+  // rad: contact enforcement's max_roll; unset: the robot map's max_roll.
+  std::optional<double> max_roll;
   // Frames with no target at all are bridged when the gap is at most this long (s).
   double max_bridge = 0.25;
   // Each frame's joint step is bounded by this fraction of the URDF velocity limit times the time since

@@ -277,6 +277,82 @@ TEST(RetargetContacts, DemoWalkOntoG1ReportsWhatAnIndependentFkMeasures) {
   EXPECT_LE(check.robot_skating, check.source_skating + 0.05);
 }
 
+// Held flat through a toe-off, a planted foot makes the leg stretch while the source's knee bends, and the
+// knee flexes at once when the foot lifts (CMU 02_01's right knee: -6 to +10 rad/s in one frame). G1's map
+// lets planted feet roll with the source about the heel or toe edge by up to max_roll: the knee near the
+// phase boundaries moves at about half that speed, no sole point on the floor slides, and the stance
+// drift (the sole centre's) stays within issue 17's bounds. All measured by the independent FK.
+TEST(RetargetContacts, PlantedFeetRollOffTheirToesInsteadOfSnappingTheKnee) {
+  SYN_REQUIRE_SHARED("cmu_bvh/02/02_01.bvh");
+  const Robot robot = G1();
+  const std::string dir = std::filesystem::temp_directory_path() / ("syn_roll_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string markers = CmuMarkers("02/02_01.bvh", dir + "/walk.markers.h5");
+  const testing::IndependentFk fk(robot.urdf);
+  struct Outcome {
+    double boundary_knee_speed = 0;  // rad/s, the largest within 4 frames of a contact phase's start or end
+    double contact_slide = 0;        // m, the largest step of a sole point on the floor (z < 1 mm) in a phase
+    int64_t rolled_frames = 0;       // planted frames whose sole is pitched more than 2°
+    ContactCheck check;
+  };
+  Outcome flat, rolled;
+  for (const bool roll : {false, true}) {
+    RetargetOptions options = CmuOptions(robot);
+    if (!roll) options.max_roll = 0.0;  // else the map's
+    const MotionData motion = RetargetFile(markers, options, nullptr);
+    Outcome& outcome = roll ? rolled : flat;
+    outcome.check = CheckContacts(motion, robot, fk, true);
+    const int64_t frames = motion.frames(), nq = motion.nq();
+    const size_t feet = robot.foot_links.size();
+    ASSERT_EQ(motion.contact_feet.size(), feet);
+    std::vector<std::vector<std::vector<Eigen::Vector3d>>> points(feet, std::vector<std::vector<Eigen::Vector3d>>(static_cast<size_t>(frames)));
+    for (int64_t t = 0; t < frames; ++t) {
+      const auto poses = fk.poses(motion.coordinate_names, &motion.q[static_cast<size_t>(t * nq)], true);
+      for (size_t f = 0; f < feet; ++f) {
+        const Eigen::Isometry3d& pose = poses.at(robot.foot_links[f]);
+        for (const Eigen::Vector3d& p : robot.sole_points[f]) points[f][static_cast<size_t>(t)].push_back(pose * p);
+        const auto at = [&](int64_t frame) { return motion.contact[static_cast<size_t>(frame) * feet + f] != 0; };
+        if (at(t) && std::abs(pose.linear()(2, 0)) > std::sin(2 * M_PI / 180)) ++outcome.rolled_frames;
+        if (t > 0 && at(t) && at(t - 1)) {
+          for (size_t k = 0; k < points[f][static_cast<size_t>(t)].size(); ++k) {
+            const Eigen::Vector3d& now = points[f][static_cast<size_t>(t)][k];
+            const Eigen::Vector3d& before = points[f][static_cast<size_t>(t - 1)][k];
+            if (now.z() < 0.001 && before.z() < 0.001) outcome.contact_slide = std::max(outcome.contact_slide, (now - before).head<2>().norm());
+          }
+        }
+      }
+    }
+    for (size_t f = 0; f < feet; ++f) {
+      const std::string knee = motion.contact_feet[f] + "_knee_joint";
+      const size_t column = static_cast<size_t>(std::find(motion.coordinate_names.begin(), motion.coordinate_names.end(), knee) -
+                                                motion.coordinate_names.begin());
+      ASSERT_LT(column, static_cast<size_t>(nq)) << knee;
+      for (int64_t t = 1; t < frames; ++t) {
+        if ((motion.contact[static_cast<size_t>(t) * feet + f] != 0) == (motion.contact[static_cast<size_t>(t - 1) * feet + f] != 0)) continue;
+        for (int64_t s = std::max<int64_t>(1, t - 4); s <= std::min(frames - 1, t + 4); ++s) {
+          const double speed = std::abs(motion.q[static_cast<size_t>(s * nq) + column] - motion.q[static_cast<size_t>((s - 1) * nq) + column]) /
+                               (motion.time_s[static_cast<size_t>(s)] - motion.time_s[static_cast<size_t>(s - 1)]);
+          outcome.boundary_knee_speed = std::max(outcome.boundary_knee_speed, speed);
+        }
+      }
+    }
+  }
+  std::filesystem::remove_all(dir);
+  std::fprintf(stderr, "02_01 onto G1, flat / rolled: knee near phase boundaries up to %.1f / %.1f rad/s; %lld / %lld planted frames "
+               "pitched > 2 deg; sole points on the floor slide up to %.2f / %.2f mm a frame; drift p95 %.1f / %.1f mm\n",
+               flat.boundary_knee_speed, rolled.boundary_knee_speed, static_cast<long long>(flat.rolled_frames),
+               static_cast<long long>(rolled.rolled_frames), 1000 * flat.contact_slide, 1000 * rolled.contact_slide,
+               1000 * Quantile(flat.check.drift, 0.95), 1000 * Quantile(rolled.check.drift, 0.95));
+  EXPECT_EQ(flat.rolled_frames, 0);
+  EXPECT_GT(rolled.rolled_frames, 0);  // the source's heel strikes and toe-offs
+  EXPECT_LT(rolled.boundary_knee_speed, 0.75 * flat.boundary_knee_speed);
+  EXPECT_LE(rolled.contact_slide, 0.001);  // the edge a foot rolls about stays put
+  EXPECT_LE(Quantile(rolled.check.drift, 0.5), 0.010);
+  EXPECT_LE(Quantile(rolled.check.drift, 0.95), 0.025);
+  EXPECT_LE(rolled.check.penetrating_fraction, 0.01);
+  EXPECT_LE(rolled.check.robot_skating, rolled.check.source_skating + 0.05);
+}
+
 // A dancer turning on one foot further than the G1's hip allows (CMU 05_02, frames 725-812: the hip roll on
 // its -0.52 rad limit, the ankle pitch on -0.87): with the pelvis held where the tracking put it, the planted
 // left foot slid 41 mm and turned 30°; contacts rank above the pelvis task, so the pelvis moves instead.

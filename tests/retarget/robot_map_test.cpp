@@ -103,6 +103,18 @@ TEST(RobotMap, MistakesAreReportedAtTheirLine) {
   EXPECT_EQ(LineOfFirstError("[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\npriority = 1e300\n"), 4);
 }
 
+// max_roll: how far planted feet may roll with the source (contact_enforcement.h), an angle in [0, π/2].
+TEST(RobotMap, MaxRollIsAnAngleOnlyTheMapsThatWantItGive) {
+  const std::string task = "[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n";
+  EXPECT_EQ(LineOfFirstError("max_roll = -0.1\n" + task), 1);
+  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nmax_roll = 2.0\n" + task), 2);
+  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nmax_roll = \"flat\"\n" + task), 2);
+  EXPECT_DOUBLE_EQ(ParseRobotMap(task, "t.toml").max_roll, 0.0);  // flat unless the map says
+  EXPECT_DOUBLE_EQ(ParseRobotMap("max_roll = 0.3\n" + task, "t.toml").max_roll, 0.3);
+  EXPECT_GT(LoadRobotMap(testing::SourcePath("manifests/robots/g1.toml")).max_roll, 0.0);
+  EXPECT_EQ(LoadRobotMap(testing::SourcePath("manifests/robots/hrp4c.toml")).max_roll, 0.0);  // its ankles are too slow
+}
+
 }  // namespace
 }  // namespace syn
 
