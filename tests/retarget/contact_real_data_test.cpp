@@ -192,6 +192,17 @@ std::string CmuMarkers(const std::string& file, const std::string& path) {
   return WriteMarkers(IngestCapture(testing::SharedPath("cmu_bvh/" + file), ingest, nullptr), path);
 }
 
+// A test's scratch folder, removed however the test ends (an ASSERT returns early).
+struct ScratchDir {
+  explicit ScratchDir(const std::string& tag)
+      : path(std::filesystem::temp_directory_path() / ("syn_" + tag + "_" + std::to_string(::getpid()))) {
+    std::filesystem::create_directories(path);
+  }
+  ~ScratchDir() { std::filesystem::remove_all(path); }
+  std::string file(const std::string& name) const { return path + "/" + name; }
+  std::string path;
+};
+
 // A CMU BVH capture onto `robot`, every other option the stage's default.
 RetargetOptions CmuOptions(const Robot& robot) {
   RetargetOptions options;
@@ -209,8 +220,7 @@ struct SweepResult {
 };
 
 SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
-  const std::string dir = std::filesystem::temp_directory_path() / ("syn_contacts_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  const ScratchDir scratch("contacts");
   const testing::IndependentFk fk(robot.urdf);
   std::vector<double> all_drift;
   std::fprintf(stderr, "%-10s %-7s %6s %8s %8s %8s %8s %8s %8s\n", "trial", "robot", "frames", "pen>1cm%", "deepest",
@@ -219,7 +229,7 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
   double all_penetrating = 0, all_frames = 0;
   for (const std::string& file : CmuTrials({"walk", "dance"})) {
     SCOPED_TRACE(file + " onto " + robot.name);
-    const std::string markers = CmuMarkers(file, dir + "/capture.markers.h5");
+    const std::string markers = CmuMarkers(file, scratch.file("capture.markers.h5"));
     RetargetSummary summary;  // contacts enforced, heading from the pelvis: the defaults
     const MotionData motion = RetargetFile(markers, CmuOptions(robot), &summary);
     const ContactCheck check = CheckContacts(motion, robot, fk, free_base);
@@ -246,22 +256,19 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
                "within the source's + 0.05, %d with stance drift within 10 mm median and 25 mm p95\n", robot.name.c_str(),
                floor_met, trials, skating_met, drift_met);
   EXPECT_EQ(trials, 32);  // the walk and dance rows of index.csv (quoted labels hold commas)
-  std::filesystem::remove_all(dir);
   return {all_drift, floor_met, skating_met, drift_met};
 }
 
 TEST(RetargetContacts, DemoWalkOntoG1ReportsWhatAnIndependentFkMeasures) {
   SYN_REQUIRE_SHARED("cmu_bvh/02/02_01.bvh");
   const Robot robot = G1();
-  const std::string dir = std::filesystem::temp_directory_path() / ("syn_demo_contacts_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::string markers = CmuMarkers("02/02_01.bvh", dir + "/walk.markers.h5");
+  const ScratchDir scratch("demo_contacts");
+  const std::string markers = CmuMarkers("02/02_01.bvh", scratch.file("walk.markers.h5"));
   RetargetOptions options = CmuOptions(robot);
   options.enforce_contacts = true;
   options.heading_from_pelvis = true;
   RetargetSummary summary;
   const MotionData motion = RetargetFile(markers, options, &summary);
-  std::filesystem::remove_all(dir);
   const ContactCheck check = CheckContacts(motion, robot, testing::IndependentFk(robot.urdf), true);
   EXPECT_GE(check.drift.size(), 4u);  // the walk's steps: the source's contacts are detected
   // The stage's own report agrees with the independent check.
@@ -285,9 +292,8 @@ TEST(RetargetContacts, DemoWalkOntoG1ReportsWhatAnIndependentFkMeasures) {
 TEST(RetargetContacts, PlantedFeetRollOffTheirToesInsteadOfSnappingTheKnee) {
   SYN_REQUIRE_SHARED("cmu_bvh/02/02_01.bvh");
   const Robot robot = G1();
-  const std::string dir = std::filesystem::temp_directory_path() / ("syn_roll_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::string markers = CmuMarkers("02/02_01.bvh", dir + "/walk.markers.h5");
+  const ScratchDir scratch("roll");
+  const std::string markers = CmuMarkers("02/02_01.bvh", scratch.file("walk.markers.h5"));
   const testing::IndependentFk fk(robot.urdf);
   struct Outcome {
     double boundary_knee_speed = 0;  // rad/s, the largest within 4 frames of a contact phase's start or end
@@ -337,7 +343,6 @@ TEST(RetargetContacts, PlantedFeetRollOffTheirToesInsteadOfSnappingTheKnee) {
       }
     }
   }
-  std::filesystem::remove_all(dir);
   std::fprintf(stderr, "02_01 onto G1, flat / rolled: knee near phase boundaries up to %.1f / %.1f rad/s; %lld / %lld planted frames "
                "pitched > 2 deg; sole points on the floor slide up to %.2f / %.2f mm a frame; drift p95 %.1f / %.1f mm\n",
                flat.boundary_knee_speed, rolled.boundary_knee_speed, static_cast<long long>(flat.rolled_frames),
@@ -359,9 +364,8 @@ TEST(RetargetContacts, PlantedFeetRollOffTheirToesInsteadOfSnappingTheKnee) {
 TEST(RetargetContacts, PelvisMovesWhereAPlantedLegCannotReach) {
   SYN_REQUIRE_SHARED("cmu_bvh/05/05_02.bvh");
   const Robot robot = G1();
-  const std::string dir = std::filesystem::temp_directory_path() / ("syn_pelvis_plant_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::string markers = CmuMarkers("05/05_02.bvh", dir + "/dance.markers.h5");
+  const ScratchDir scratch("pelvis_plant");
+  const std::string markers = CmuMarkers("05/05_02.bvh", scratch.file("dance.markers.h5"));
   const testing::IndependentFk fk(robot.urdf);
   ContactCheck held, moved;
   RetargetSummary held_summary, moved_summary;
@@ -373,7 +377,6 @@ TEST(RetargetContacts, PelvisMovesWhereAPlantedLegCannotReach) {
     (move ? moved : held) = CheckContacts(motion, robot, fk, true);
     ExpectSummaryMatches(summary, move ? moved : held);
   }
-  std::filesystem::remove_all(dir);
   std::fprintf(stderr, "05_02 onto G1, pelvis held: drift median/p95 %.1f/%.1f mm; moved: %.1f/%.1f mm (%s)\n",
                1000 * Quantile(held.drift, 0.5), 1000 * Quantile(held.drift, 0.95), 1000 * Quantile(moved.drift, 0.5),
                1000 * Quantile(moved.drift, 0.95), moved_summary.BriefReport().c_str());
@@ -396,15 +399,14 @@ TEST(RetargetContacts, PelvisMovesWhereAPlantedLegCannotReach) {
 TEST(RetargetContacts, HipsStayOffTheirMirroredSolution) {
   SYN_REQUIRE_SHARED("cmu_bvh/60/60_02.bvh");
   const Robot robot = G1();
-  const std::string dir = std::filesystem::temp_directory_path() / ("syn_hip_branch_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::string markers = CmuMarkers("60/60_02.bvh", dir + "/salsa.markers.h5");
+  const ScratchDir scratch("hip_branch");
+  const std::string markers = CmuMarkers("60/60_02.bvh", scratch.file("salsa.markers.h5"));
   // The same map without its [joint_ranges] table: the URDF's limits.
   std::string text = ReadFileText(robot.map);
   const size_t table = text.find("[joint_ranges]");
   ASSERT_NE(table, std::string::npos);
   text.erase(table, text.find("\n\n", table) - table);
-  const std::string unranged_map = dir + "/g1_urdf_ranges.toml";
+  const std::string unranged_map = scratch.file("g1_urdf_ranges.toml");
   std::ofstream(unranged_map) << text;
   const testing::IndependentFk fk(robot.urdf);
   struct Outcome {
@@ -435,7 +437,6 @@ TEST(RetargetContacts, HipsStayOffTheirMirroredSolution) {
       if (enforce) outcome.check = CheckContacts(motion, robot, fk, true);
     }
   }
-  std::filesystem::remove_all(dir);
   std::fprintf(stderr, "60_02 onto G1, URDF ranges: %.0f %% of frames on a mirrored hip after the IK, %.0f %% in the result, pelvis tilt up to %.0f deg, "
                "drift p95 %.1f mm; map ranges: %.0f %%, %.0f %%, %.0f deg, %.1f mm\n", 100 * unranged.ik_mirrored_fraction,
                100 * unranged.mirrored_fraction, unranged.max_tilt * 180 / M_PI, 1000 * Quantile(unranged.check.drift, 0.95),
