@@ -6,6 +6,7 @@
 #include <ceres/ceres.h>
 
 #include "common/configuration_space.h"
+#include "common/tree_kinematics.h"
 #include "stages/retarget/branch_joints.h"
 
 namespace syn {
@@ -49,7 +50,7 @@ class TrackingCost final : public ceres::CostFunction {
                double posture_weight, double continuity_weight, double acceleration_weight)
       : model_(model),
         shape_(ConfigurationShape::Of(model.hasFreeBase(), model.nq())),
-        workspace_(model),
+        tree_(model),
         tasks_(tasks),
         q_reference_(q_reference),
         posture_weight_(posture_weight),
@@ -83,9 +84,11 @@ class TrackingCost final : public ceres::CostFunction {
     const int nu = model_.nu();
     const Eigen::Map<const Eigen::VectorXd> delta(parameters[0], nu);
     Integrate(shape_, q0_.data(), delta.data(), q_.data());
-    // Ceres evaluates an accepted point twice (cost, then Jacobian): realise each configuration once.
+    // Ceres evaluates an accepted point twice (cost, then Jacobian): place each configuration once. The
+    // tree's own forward kinematics, not a Simbody state: Debian's Simbody checks the state on every
+    // setQ, which was a fifth of the whole stage on CMU dances (tree_kinematics.h).
     if (!realized_ || q_ != realized_q_) {
-      workspace_.setQ(q_);
+      tree_.setQ(q_);
       realized_q_ = q_;
       realized_ = true;
     }
@@ -99,7 +102,7 @@ class TrackingCost final : public ceres::CostFunction {
       if (!target.active || task.weight == 0.0) continue;
       const int row = task_row_[i];
       const int orientation_row = task.type == TaskType::kPose ? row + 3 : row;
-      const Eigen::Isometry3d pose = workspace_.findLinkPose(task.link);
+      const Eigen::Isometry3d& pose = tree_.linkPose(task.link);
       const bool use_position = task.type != TaskType::kOrientation;
       const bool use_orientation = task.type != TaskType::kPosition && target.has_orientation;
       if (use_position) r.segment<3>(row) = task.weight * (pose.translation() - target.position);
@@ -109,7 +112,7 @@ class TrackingCost final : public ceres::CostFunction {
         r.segment<3>(orientation_row) = task.weight * rotation_error;
       }
       if (!J) continue;
-      workspace_.calcFrameJacobian(task.link, Eigen::Vector3d::Zero(), jacobian_);
+      tree_.frameJacobian(task.link, jacobian_);
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jacobian(J, num_residuals(), nu);
       // Frame Jacobian rows: angular velocity (0..2), then linear velocity of the link origin (3..5).
       if (use_position) jacobian.block(row, 0, 3, nu) = task.weight * jacobian_.bottomRows<3>();
@@ -142,7 +145,7 @@ class TrackingCost final : public ceres::CostFunction {
  private:
   const Model& model_;
   const ConfigurationShape shape_;
-  mutable Workspace workspace_;
+  mutable TreeKinematics tree_;
   const std::vector<IkTask>& tasks_;
   const Eigen::VectorXd& q_reference_;
   double posture_weight_;
