@@ -74,6 +74,12 @@ class TrackingCost final : public ceres::CostFunction {
 
   // predicted_step: the step δ a constant velocity would take this frame (the acceleration term pulls
   // toward it), or nullptr for none (the first frame).
+  // Joints the active set holds (FrameIk::Impl::held_mask, one entry per u; null: none): their Jacobian
+  // columns are zero, so no Levenberg–Marquardt step moves them. Ceres's SubsetManifold did the same by
+  // multiplying every Jacobian by its plus-Jacobian, a dense rows × nu × nu product per evaluation that was
+  // a seventh of the stage's time on CMU dances.
+  void setHeld(const std::vector<uint8_t>* held) { held_ = held; }
+
   void setFrame(const std::vector<IkTarget>* targets, const Eigen::VectorXd& q0, const Eigen::VectorXd* predicted_step = nullptr) {
     targets_ = targets;
     q0_ = q0;
@@ -139,6 +145,12 @@ class TrackingCost final : public ceres::CostFunction {
       r[regularisation_row + u - first_joint_u_] = combined * (delta[u] - target);
       if (J) J[static_cast<size_t>(regularisation_row + u - first_joint_u_) * nu + u] = combined;
     }
+    if (J && held_) {
+      for (int u = 0; u < nu; ++u) {
+        if (!(*held_)[static_cast<size_t>(u)]) continue;
+        for (int row = 0; row < num_residuals(); ++row) J[static_cast<size_t>(row) * nu + u] = 0.0;
+      }
+    }
     return true;
   }
 
@@ -159,6 +171,7 @@ class TrackingCost final : public ceres::CostFunction {
   int first_joint_u_;
   int q_offset_;
   const std::vector<IkTarget>* targets_ = nullptr;
+  const std::vector<uint8_t>* held_ = nullptr;
   Eigen::VectorXd q0_;
   mutable Eigen::VectorXd q_;
   mutable Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
@@ -183,27 +196,20 @@ struct FrameIk::Impl {
   ceres::Problem problem;
   ceres::Solver::Options solver_options;
   Workspace workspace;
-  // Active set: the joints held at a bound for this frame, and their manifold.
-  std::vector<int> held;
+  // Active set: the joints held at a bound for this frame (TrackingCost::setHeld).
   std::vector<uint8_t> held_mask;
   Eigen::VectorXd last_step;       // the previous solve's δ
   Eigen::VectorXd predicted_step;  // this solve's constant-velocity prediction
   bool has_last_step = false;
-  std::unique_ptr<ceres::SubsetManifold> held_manifold;
   Eigen::VectorXd residual, gradient;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jacobian;
 
-  static ceres::Problem::Options ProblemOptions() {
-    ceres::Problem::Options options;
-    options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // held_manifold owns it
-    return options;
-  }
 
   Impl(const Model& model_in, std::vector<IkTask> tasks_in, const Eigen::VectorXd& q_ref, double posture_weight,
        const FrameIkOptions& options_in)
       : model(model_in), tasks(std::move(tasks_in)), q_reference(q_ref), options(options_in),
         first_joint(model_in.hasFreeBase() ? 6 : 0), q_offset(model_in.hasFreeBase() ? 1 : 0),
-        delta(Eigen::VectorXd::Zero(model_in.nu())), problem(ProblemOptions()), workspace(model_in) {
+        delta(Eigen::VectorXd::Zero(model_in.nu())), workspace(model_in) {
     cost = new TrackingCost(model, tasks, q_reference, posture_weight, options.continuity_weight,
                             options.acceleration_weight);
     problem.AddResidualBlock(cost, nullptr, delta.data());
@@ -239,7 +245,9 @@ struct FrameIk::Impl {
     jacobian.resize(rows, nu);
     const double* parameters[] = {delta.data()};
     double* jacobians[] = {jacobian.data()};
+    cost->setHeld(nullptr);  // the whole gradient: a held joint's says whether to let it go
     cost->Evaluate(parameters, residual.data(), jacobians);
+    cost->setHeld(&held_mask);
     gradient.noalias() = jacobian.transpose() * residual;
     return gradient;
   }
@@ -274,16 +282,8 @@ struct FrameIk::Impl {
     return true;
   }
 
-  // Tells Ceres which joints held_mask holds (constant at their current δ).
-  void applyHeldJoints() {
-    held.clear();
-    for (int u = first_joint; u < model.nu(); ++u) {
-      if (held_mask[u]) held.push_back(u);
-    }
-    problem.SetManifold(delta.data(), nullptr);
-    held_manifold = held.empty() ? nullptr : std::make_unique<ceres::SubsetManifold>(model.nu(), held);
-    problem.SetManifold(delta.data(), held_manifold.get());
-  }
+  // Holds the joints held_mask marks (constant at their current δ: their Jacobian columns are zero).
+  void applyHeldJoints() { cost->setHeld(&held_mask); }
 };
 
 FrameIk::FrameIk(const Model& model, std::vector<IkTask> tasks, const Eigen::VectorXd& q_reference,
@@ -327,7 +327,7 @@ FrameIkSummary FrameIk::solveOnce(const std::vector<IkTarget>& targets, Eigen::V
   // Levenberg–Marquardt step onto the box and add a line search per step; when a joint presses on its
   // limit that crawls (tens of iterations for a fraction of the cost), because the step is computed as
   // if the joint could move. So the box is enforced by an active set around unconstrained solves: a
-  // joint that would leave the box is held on its bound (a SubsetManifold) and the others re-solved.
+  // joint that would leave the box is held on its bound (its Jacobian column zero) and the others re-solved.
   // Joints that start on a bound and are pushed outward are held from the start.
   std::fill(impl.held_mask.begin(), impl.held_mask.end(), 0);
   bool start_on_bound = false;
@@ -415,6 +415,7 @@ void FrameIk::linearize(const std::vector<IkTarget>& targets, const Eigen::Vecto
   residual.resize(rows);
   jacobian.resize(rows, nu);
   impl.cost->setFrame(&targets, q);
+  impl.cost->setHeld(nullptr);  // the whole linearisation, whatever the last solve held
   impl.delta.setZero();
   const double* parameters[] = {impl.delta.data()};
   double* jacobians[] = {jacobian.data()};
