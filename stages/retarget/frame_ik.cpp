@@ -72,14 +72,14 @@ class TrackingCost final : public ceres::CostFunction {
     mutable_parameter_block_sizes()->push_back(model.nu());
   }
 
-  // predicted_step: the step δ a constant velocity would take this frame (the acceleration term pulls
-  // toward it), or nullptr for none (the first frame).
   // Joints the active set holds (FrameIk::Impl::held_mask, one entry per u; null: none): their Jacobian
   // columns are zero, so no Levenberg–Marquardt step moves them. Ceres's SubsetManifold did the same by
   // multiplying every Jacobian by its plus-Jacobian, a dense rows × nu × nu product per evaluation that was
   // a seventh of the stage's time on CMU dances.
   void setHeld(const std::vector<uint8_t>* held) { held_ = held; }
 
+  // predicted_step: the step δ a constant velocity would take this frame (the acceleration term pulls
+  // toward it), or nullptr for none (the first frame).
   void setFrame(const std::vector<IkTarget>* targets, const Eigen::VectorXd& q0, const Eigen::VectorXd* predicted_step = nullptr) {
     targets_ = targets;
     q0_ = q0;
@@ -203,7 +203,6 @@ struct FrameIk::Impl {
   bool has_last_step = false;
   Eigen::VectorXd residual, gradient;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jacobian;
-
 
   Impl(const Model& model_in, std::vector<IkTask> tasks_in, const Eigen::VectorXd& q_ref, double posture_weight,
        const FrameIkOptions& options_in)
