@@ -141,9 +141,12 @@ double LegSolver::poseError(const Eigen::Isometry3d& target, const Eigen::Isomet
 LegSolveResult LegSolver::solve(Workspace& workspace, const std::vector<Eigen::Isometry3d>& targets,
                                 const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor,
                                 const Eigen::VectorXd* previous, double dt, const std::vector<bool>* unbounded) {
-  workspace.setQ(q);
+  // The roots from the tree's own forward kinematics: a Simbody setQ (with Debian's state checks) per
+  // solve was a twentieth of the stage on CMU dances, where each frame's legs are solved several times.
+  if (!tree_) tree_.emplace(workspace.model());
+  tree_->setQ(q);
   for (size_t c = 0; c < chains_.size(); ++c) {
-    if (active[c]) roots_[c] = workspace.findLinkPose(chains_[c].root_link);
+    if (active[c]) roots_[c] = tree_->linkPose(chains_[c].root_link);
   }
   return solveFromRoots(roots_, targets, active, q, branch_floor, previous, dt, unbounded);
 }

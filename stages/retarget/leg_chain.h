@@ -13,6 +13,7 @@
 // checks on every setQ, which made a leg solve cost 100 µs per iteration.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include <Eigen/Geometry>
 
 #include "common/model.h"
+#include "common/tree_kinematics.h"
 
 namespace syn {
 
@@ -75,7 +77,8 @@ class LegSolver {
  public:
   explicit LegSolver(std::vector<LegChain> chains, const LegSolveOptions& options = {});
 
-  // Realises the workspace at q once (for the legs' root links); the workspace is left there, not at the answer.
+  // The legs' root links are placed at q by the workspace's model (its own forward kinematics: the workspace
+  // itself is left as it was).
   // `previous` (nq, or null) with `dt` > 0: each joint stays within its velocity limit × dt of its value there,
   // the bound the per-frame IK and the refinement keep (a leg that cannot follow its foot that fast falls
   // short instead of jumping to another branch). `unbounded` (one entry per chain, or null): chains solved
@@ -112,7 +115,8 @@ class LegSolver {
   std::vector<LegChain> chains_;
   LegSolveOptions options_;
   std::vector<Eigen::Isometry3d> reached_;
-  std::vector<Eigen::Isometry3d> roots_;  // solve's root-link poses, read from the workspace
+  std::vector<Eigen::Isometry3d> roots_;  // solve's root-link poses
+  std::optional<TreeKinematics> tree_;    // places them: the first solve's workspace's model
   // The joints' world frames during footPose (fixed capacity: no allocation per solve).
   mutable std::vector<Eigen::Vector3d> joint_axis_, joint_position_;
   std::vector<double> saved_, lower_, upper_;  // per chain joint, for the solve under way
