@@ -11,6 +11,7 @@
 #include "common/configuration_space.h"
 #include "common/error.h"
 #include "common/percentile.h"
+#include "common/tree_kinematics.h"
 #include "stages/retarget/base_mover.h"
 #include "stages/retarget/branch_joints.h"
 #include "stages/retarget/leg_chain.h"
@@ -480,7 +481,7 @@ void DescendOverBase(const Evaluate& evaluate, const Vector6d& centre, const Fil
 // its plant (Levenberg–Marquardt over the base's six velocities, each evaluation the planted legs solved
 // from their moved roots). The corrections are smoothed in time like the lowering, and the pass repeated
 // on what the smoothing left, so the upper body turns with the pelvis smoothly instead of jumping.
-std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover, Workspace& workspace, LegSolver& solver, const std::vector<LegChain>& chains,
+std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover, TreeKinematics& tree, LegSolver& solver, const std::vector<LegChain>& chains,
                                       const FootContacts& contacts, const std::vector<std::vector<Eigen::Isometry3d>>& target,
                                       const std::vector<double>& lowering, int64_t vertical_coordinate, int64_t half_width,
                                       const std::vector<double>& q) {
@@ -512,9 +513,9 @@ std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover
       frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
       if (vertical_coordinate >= 0) frame_q[vertical_coordinate] -= lowering[static_cast<size_t>(t)];
       mover.apply(total[static_cast<size_t>(t)], frame_q);
-      workspace.setQ(frame_q);
-      const Eigen::Isometry3d base = workspace.findLinkPose(base_link);
-      for (size_t f = 0; f < foot_count; ++f) relative[f] = base.inverse() * workspace.findLinkPose(chains[f].root_link);
+      tree.setQ(frame_q);
+      const Eigen::Isometry3d base = tree.linkPose(base_link);
+      for (size_t f = 0; f < foot_count; ++f) relative[f] = base.inverse() * tree.linkPose(chains[f].root_link);
       // The LM cost with the base moved by `correction`, the legs solved from frame_q's (a Jacobian nudge's
       // from the current point's answer, a step away: a few iterations instead of a whole solve); `reached`
       // and `legs` say where they got.
@@ -591,7 +592,7 @@ struct HoldScratch {
 // BaseCorrections, the legs solved with their speed bounds), and the upper body with it; `carried` is the
 // move the previous frames made, which the search pulls back towards none. Returns whether it moved (by
 // `moved`); frame_q's legs are then to be solved again from the moved pelvis.
-bool HoldPlantsWithinSpeed(const BaseMover& mover, Workspace& workspace, LegSolver& solver, const std::vector<LegChain>& chains,
+bool HoldPlantsWithinSpeed(const BaseMover& mover, TreeKinematics& tree, LegSolver& solver, const std::vector<LegChain>& chains,
                            const std::vector<Eigen::Isometry3d>& targets, const std::vector<bool>& planted,
                            const Eigen::VectorXd& before, double step_time, const std::vector<bool>& unbounded,
                            const Vector6d& carried, HoldScratch& scratch, Eigen::VectorXd& frame_q, Vector6d& moved) {
@@ -605,10 +606,10 @@ bool HoldPlantsWithinSpeed(const BaseMover& mover, Workspace& workspace, LegSolv
     missing = missing || !OnPlant(targets[f], solver.reached(f));
   }
   if (!missing) return false;
-  workspace.setQ(frame_q);
-  const Eigen::Isometry3d base = workspace.findLinkPose(mover.link());
+  tree.setQ(frame_q);
+  const Eigen::Isometry3d base = tree.linkPose(mover.link());
   scratch.relative.resize(chains.size()), scratch.roots.resize(chains.size());
-  for (size_t f = 0; f < chains.size(); ++f) scratch.relative[f] = base.inverse() * workspace.findLinkPose(chains[f].root_link);
+  for (size_t f = 0; f < chains.size(); ++f) scratch.relative[f] = base.inverse() * tree.linkPose(chains[f].root_link);
   const auto evaluate = [&](const Vector6d& correction, Eigen::VectorXd& r, bool nudge) {
     SolvePlantedLegs(solver, base, correction, scratch.relative, targets, planted, rows, nudge ? scratch.point_legs : frame_q,
                      &before, step_time, &unbounded, scratch.roots, scratch.legs, r);
@@ -700,6 +701,10 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     soles.push_back(SoleOf(foot));
   }
 
+  // Places the robot for the tracked feet and the pelvis searches: the tree's own forward kinematics, not a
+  // Simbody setQ (with Debian's state checks), which was a tenth of CMU dance 05_11's whole stage.
+  TreeKinematics tree(model);
+
   // The tracked motion's feet and hips.
   std::vector<std::vector<Eigen::Isometry3d>> tracked(foot_count), target(foot_count);
   std::vector<std::vector<Eigen::Vector3d>> hip(foot_count);
@@ -709,10 +714,10 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   Eigen::VectorXd frame_q(nq);
   for (int64_t t = 0; t < frames; ++t) {
     frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
-    workspace.setQ(frame_q);
+    tree.setQ(frame_q);
     for (size_t f = 0; f < foot_count; ++f) {
-      tracked[f][static_cast<size_t>(t)] = workspace.findLinkPose(chains[f].foot_link);
-      hip[f][static_cast<size_t>(t)] = workspace.findLinkPose(chains[f].hip_link).translation();
+      tracked[f][static_cast<size_t>(t)] = tree.linkPose(chains[f].foot_link);
+      hip[f][static_cast<size_t>(t)] = tree.linkPose(chains[f].hip_link).translation();
     }
   }
   double level = 0.0;
@@ -775,7 +780,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   const BaseMover mover(model);
   const std::vector<Vector6d> base_correction =
       options.move_base_for_plants
-          ? BaseCorrections(model, mover, workspace, solver, chains, contacts, target, lowering, vertical_coordinate, base_half_width, q)
+          ? BaseCorrections(model, mover, tree, solver, chains, contacts, target, lowering, vertical_coordinate, base_half_width, q)
           : std::vector<Vector6d>(static_cast<size_t>(frames), Vector6d::Zero());
 
   int64_t iterations = 0;
@@ -822,7 +827,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     if (options.move_base_for_plants && mover.canMove()) {
       for (size_t f = 0; f < foot_count; ++f) held[f] = active[f] && static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f));
       Vector6d step;
-      if (HoldPlantsWithinSpeed(mover, workspace, solver, chains, frame_targets, held, before, step_time, planted, speed_move,
+      if (HoldPlantsWithinSpeed(mover, tree, solver, chains, frame_targets, held, before, step_time, planted, speed_move,
                                 hold_scratch, frame_q, step)) {
         speed_move += step;
       } else if (speed_move.squaredNorm() > 0) {

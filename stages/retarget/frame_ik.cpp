@@ -195,7 +195,7 @@ struct FrameIk::Impl {
   TrackingCost* cost = nullptr;              // owned by problem
   ceres::Problem problem;
   ceres::Solver::Options solver_options;
-  Workspace workspace;
+  TreeKinematics tree;  // measureErrors' forward kinematics
   // Active set: the joints held at a bound for this frame (TrackingCost::setHeld).
   std::vector<uint8_t> held_mask;
   Eigen::VectorXd last_step;       // the previous solve's δ
@@ -208,7 +208,7 @@ struct FrameIk::Impl {
        const FrameIkOptions& options_in)
       : model(model_in), tasks(std::move(tasks_in)), q_reference(q_ref), options(options_in),
         first_joint(model_in.hasFreeBase() ? 6 : 0), q_offset(model_in.hasFreeBase() ? 1 : 0),
-        delta(Eigen::VectorXd::Zero(model_in.nu())), workspace(model_in) {
+        delta(Eigen::VectorXd::Zero(model_in.nu())), tree(model_in) {
     cost = new TrackingCost(model, tasks, q_reference, posture_weight, options.continuity_weight,
                             options.acceleration_weight);
     problem.AddResidualBlock(cost, nullptr, delta.data());
@@ -424,12 +424,12 @@ void FrameIk::linearize(const std::vector<IkTarget>& targets, const Eigen::Vecto
 void FrameIk::measureErrors(const std::vector<IkTarget>& targets, const Eigen::VectorXd& q,
                             std::vector<double>& position_error, std::vector<double>& angle_error) {
   Impl& impl = *impl_;
-  impl.workspace.setQ(q);
+  impl.tree.setQ(q);
   position_error.assign(impl.tasks.size(), std::nan(""));
   angle_error.assign(impl.tasks.size(), std::nan(""));
   for (size_t i = 0; i < impl.tasks.size(); ++i) {
     if (!targets[i].active) continue;
-    const Eigen::Isometry3d pose = impl.workspace.findLinkPose(impl.tasks[i].link);
+    const Eigen::Isometry3d& pose = impl.tree.linkPose(impl.tasks[i].link);
     if (impl.tasks[i].type != TaskType::kOrientation) {
       position_error[i] = (pose.translation() - targets[i].position).norm();
     }
