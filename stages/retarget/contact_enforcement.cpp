@@ -170,17 +170,16 @@ void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>&
     // CMU's BVH foot pitches 18-37° toes down through 02_01's stances, and rolled by its whole pitch the robot
     // stood on its toes all stance), at most max_roll, fading to none kRollWindow from either end. The sole
     // centre moves with the roll, by (1 − cos max_roll) × its distance from the edge (G1: under 2 mm).
-    std::vector<double>& pitch = phase_pitch;
-    pitch.clear();
-    for (int64_t t = phase->begin; t < phase->end && max_roll > 0; ++t) pitch.push_back(PitchFrom(sole, planted, free[static_cast<size_t>(t)]));
-    const double flat = pitch.empty() ? 0.0 : NearestRankPercentile(pitch, 0.5);
+    phase_pitch.clear();
+    for (int64_t t = phase->begin; t < phase->end && max_roll > 0; ++t) phase_pitch.push_back(PitchFrom(sole, planted, free[static_cast<size_t>(t)]));
+    const double flat = phase_pitch.empty() ? 0.0 : NearestRankPercentile(phase_pitch, 0.5);
     const double first = time_s[static_cast<size_t>(phase->begin)], last = time_s[static_cast<size_t>(phase->end - 1)];
     for (int64_t t = phase->begin; t < phase->end; ++t) {
       const Eigen::Isometry3d& source = free[static_cast<size_t>(t)];
       const double now = time_s[static_cast<size_t>(t)];
       const double cap = max_roll * Ease(std::min(now - first, last - now) / kRollWindow);
       const Eigen::Isometry3d plant =
-          cap > 0 ? RollBy(sole, planted, std::clamp(PitchFrom(sole, planted, source) - flat, -cap, cap)) : planted;
+          cap > 0 ? RollBy(sole, planted, std::clamp(phase_pitch[static_cast<size_t>(t - phase->begin)] - flat, -cap, cap)) : planted;
       correction[static_cast<size_t>(t)] = Between(plant, source);
     }
   }
@@ -272,7 +271,7 @@ void ContinueLegs(const std::vector<LegChain>& chains, const Eigen::VectorXd& pr
 // never reached: CMU 05_11's last 15 frames, both knees on 0, the planted feet rose 20-33 mm and slid 57 mm.
 // Such a leg, left more than a millimetre off its target, is solved again from its branch joints bent
 // (within their speed bound), and keeps whichever answer comes nearer. Returns the iterations spent.
-int BendStraightKnees(const std::vector<LegChain>& chains, Workspace& workspace, LegSolver& solver,
+int BendStraightKnees(const std::vector<LegChain>& chains, LegSolver& solver,
                       const std::vector<Eigen::Isometry3d>& targets, const std::vector<bool>& active, Eigen::VectorXd& q,
                       const Eigen::VectorXd& before, double step_time, const std::vector<bool>& unbounded,
                       std::vector<bool>& retry) {
@@ -296,7 +295,7 @@ int BendStraightKnees(const std::vector<LegChain>& chains, Workspace& workspace,
     }
     std::fill(retry.begin(), retry.end(), false);
     retry[f] = true;
-    iterations += solver.solve(workspace, targets, retry, q, 0.0, &before, step_time, &unbounded).iterations;  // dt 0: unbounded
+    iterations += solver.solve(targets, retry, q, 0.0, &before, step_time, &unbounded).iterations;  // dt 0: unbounded
     if (solver.poseError(targets[f], solver.reached(f), error) >= cost) {
       for (size_t k = 0; k < chain.size(); ++k) q[chain.q_index[k]] = kept[static_cast<Eigen::Index>(k)];
       solver.keepReached(f, reached);
@@ -406,6 +405,16 @@ bool OnPlant(const Eigen::Isometry3d& target, const Eigen::Isometry3d& reached) 
   return off.translation.norm() < kPlantPositionTolerance && off.rotation.norm() < kPlantAngleTolerance;
 }
 
+// The base link's pose at frame_q (returned), and each leg root's pose relative to it (`relative`): what both
+// pelvis searches below move the roots with.
+Eigen::Isometry3d RootsOnBase(TreeKinematics& tree, int base_link, const std::vector<LegChain>& chains,
+                              const Eigen::VectorXd& frame_q, std::vector<Eigen::Isometry3d>& relative) {
+  tree.setQ(frame_q);
+  const Eigen::Isometry3d base = tree.linkPose(base_link);
+  for (size_t f = 0; f < chains.size(); ++f) relative[f] = base.inverse() * tree.linkPose(chains[f].root_link);
+  return base;
+}
+
 // The planted legs of both pelvis searches below, with the base at `base` moved by `correction`: each leg's
 // root is the moved base times its `relative` pose, the legs are solved from `start` (within their speed
 // bounds about `previous` over `dt` when given, `unbounded` exempting some), and their pose errors
@@ -513,9 +522,7 @@ std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover
       frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
       if (vertical_coordinate >= 0) frame_q[vertical_coordinate] -= lowering[static_cast<size_t>(t)];
       mover.apply(total[static_cast<size_t>(t)], frame_q);
-      tree.setQ(frame_q);
-      const Eigen::Isometry3d base = tree.linkPose(base_link);
-      for (size_t f = 0; f < foot_count; ++f) relative[f] = base.inverse() * tree.linkPose(chains[f].root_link);
+      const Eigen::Isometry3d base = RootsOnBase(tree, base_link, chains, frame_q, relative);
       // The LM cost with the base moved by `correction`, the legs solved from frame_q's (a Jacobian nudge's
       // from the current point's answer, a step away: a few iterations instead of a whole solve); `reached`
       // and `legs` say where they got.
@@ -606,10 +613,8 @@ bool HoldPlantsWithinSpeed(const BaseMover& mover, TreeKinematics& tree, LegSolv
     missing = missing || !OnPlant(targets[f], solver.reached(f));
   }
   if (!missing) return false;
-  tree.setQ(frame_q);
-  const Eigen::Isometry3d base = tree.linkPose(mover.link());
   scratch.relative.resize(chains.size()), scratch.roots.resize(chains.size());
-  for (size_t f = 0; f < chains.size(); ++f) scratch.relative[f] = base.inverse() * tree.linkPose(chains[f].root_link);
+  const Eigen::Isometry3d base = RootsOnBase(tree, mover.link(), chains, frame_q, scratch.relative);
   const auto evaluate = [&](const Vector6d& correction, Eigen::VectorXd& r, bool nudge) {
     SolvePlantedLegs(solver, base, correction, scratch.relative, targets, planted, rows, nudge ? scratch.point_legs : frame_q,
                      &before, step_time, &unbounded, scratch.roots, scratch.legs, r);
@@ -737,7 +742,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   // How far the base must come down for every corrected target to be within reach of a leg whose knee keeps
   // `stance_knee`: each such leg is solved with that floor first, and where it falls short, the distance it
   // did reach from its hip is the radius of the sphere the target must come within.
-  LegSolver solver(chains);
+  LegSolver solver(model, chains);
   Eigen::VectorXd previous(nq);
   int64_t previous_frame = -2;
   std::vector<double> need(static_cast<size_t>(frames), 0.0);
@@ -756,7 +761,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       if (!any) continue;
       frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
       ContinueLegs(chains, previous, t - 1 == previous_frame, false, frame_q);
-      solver.solve(workspace, frame_targets, active, frame_q, options.stance_knee);
+      solver.solve(frame_targets, active, frame_q, options.stance_knee);
       previous = frame_q, previous_frame = t;
       for (size_t f = 0; f < foot_count; ++f) {
         if (!active[f]) continue;
@@ -822,8 +827,8 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       active[f] = drop > 1e-9 || base_moved || changed[f][static_cast<size_t>(t)];
       planted[f] = options.contacts_above_speed && static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f));
     }
-    LegSolveResult solved = solver.solve(workspace, frame_targets, active, frame_q, 0.0, &before, step_time, &planted);
-    solved.iterations += BendStraightKnees(chains, workspace, solver, frame_targets, active, frame_q, before, step_time, planted, retry);
+    LegSolveResult solved = solver.solve(frame_targets, active, frame_q, 0.0, &before, step_time, &planted);
+    solved.iterations += BendStraightKnees(chains, solver, frame_targets, active, frame_q, before, step_time, planted, retry);
     if (options.move_base_for_plants && mover.canMove()) {
       for (size_t f = 0; f < foot_count; ++f) held[f] = active[f] && static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f));
       Vector6d step;
@@ -840,7 +845,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
         ContinueLegs(chains, previous, t - 1 == previous_frame, previous_frame < 0, frame_q);
       }
       if (step.squaredNorm() > 0) {
-        const LegSolveResult again = solver.solve(workspace, frame_targets, active, frame_q, 0.0, &before, step_time, &planted);
+        const LegSolveResult again = solver.solve(frame_targets, active, frame_q, 0.0, &before, step_time, &planted);
         solved.iterations += again.iterations;
         solved.position_error = again.position_error, solved.angle_error = again.angle_error;
       }
@@ -866,7 +871,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
         rolled = rolled || through_floor;
       }
       if (!rolled) break;
-      const LegSolveResult again = solver.solve(workspace, frame_targets, retry, frame_q, 0.0, &before, step_time, &planted);
+      const LegSolveResult again = solver.solve(frame_targets, retry, frame_q, 0.0, &before, step_time, &planted);
       solved.iterations += again.iterations;
       // The worst of either solve: a rolled foot's first error was against the flat pose it gave up.
       solved.position_error = std::max(solved.position_error, again.position_error);
@@ -895,7 +900,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
         for (size_t f = 0; f < foot_count; ++f) retry[f] = active[f];
         if (round == 1) ++out.raised_frames;
       }
-      const LegSolveResult again = solver.solve(workspace, frame_targets, retry, frame_q, 0.0, &before, step_time, &planted);
+      const LegSolveResult again = solver.solve(frame_targets, retry, frame_q, 0.0, &before, step_time, &planted);
       solved.iterations += again.iterations;
     }
     iterations += solved.iterations;

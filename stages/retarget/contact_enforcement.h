@@ -123,8 +123,8 @@ struct ContactEnforcementReport {
   double mean_iterations = 0.0;         // leg-solver iterations per solved frame
   int64_t rolled_foot_frames = 0;       // foot-frames rolled about a sole edge (a joint limit pitched the foot)
   int64_t lifted_frames = 0;            // frames with a foot lifted onto its lowest sole point (its leg at a limit)
-  int64_t moved_plants = 0;
-  int64_t speed_base_moved_frames = 0;  // frames whose pelvis moved so that planted legs hold within their speed             // contact phases planted where the foot touched down, off the plan
+  int64_t moved_plants = 0;             // contact phases planted where the foot touched down, off the plan
+  int64_t speed_base_moved_frames = 0;  // frames whose pelvis moved so that planted legs hold within their speed
   int64_t raised_frames = 0;            // of those, frames whose base rose too (the leg could not lift the foot)
   int64_t base_moved_frames = 0;        // frames whose pelvis moved so that a planted leg reaches its plant
   double max_base_turn = 0.0;           // rad: the largest such rotation

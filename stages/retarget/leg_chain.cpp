@@ -84,11 +84,12 @@ LegChain FindLegChain(const Model& model, Workspace& workspace, const std::strin
   return chain;
 }
 
-LegSolver::LegSolver(std::vector<LegChain> chains, const LegSolveOptions& options)
+LegSolver::LegSolver(const Model& model, std::vector<LegChain> chains, const LegSolveOptions& options)
     : chains_(std::move(chains)),
       options_(options),
       reached_(chains_.size(), Eigen::Isometry3d::Identity()),
-      roots_(chains_.size(), Eigen::Isometry3d::Identity()) {
+      roots_(chains_.size(), Eigen::Isometry3d::Identity()),
+      tree_(model) {
   size_t widest = 0, longest = 0;
   for (const LegChain& chain : chains_) widest = std::max(widest, chain.size()), longest = std::max(longest, chain.path.size());
   saved_.resize(widest);
@@ -138,15 +139,14 @@ double LegSolver::poseError(const Eigen::Isometry3d& target, const Eigen::Isomet
   return error.squaredNorm();
 }
 
-LegSolveResult LegSolver::solve(Workspace& workspace, const std::vector<Eigen::Isometry3d>& targets,
+LegSolveResult LegSolver::solve(const std::vector<Eigen::Isometry3d>& targets,
                                 const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor,
                                 const Eigen::VectorXd* previous, double dt, const std::vector<bool>* unbounded) {
   // The roots from the tree's own forward kinematics: a Simbody setQ (with Debian's state checks) per
   // solve was a twentieth of the stage on CMU dances, where each frame's legs are solved several times.
-  if (!tree_) tree_.emplace(workspace.model());
-  tree_->setQ(q);
+  tree_.setQ(q);
   for (size_t c = 0; c < chains_.size(); ++c) {
-    if (active[c]) roots_[c] = tree_->linkPose(chains_[c].root_link);
+    if (active[c]) roots_[c] = tree_.linkPose(chains_[c].root_link);
   }
   return solveFromRoots(roots_, targets, active, q, branch_floor, previous, dt, unbounded);
 }

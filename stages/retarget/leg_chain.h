@@ -13,7 +13,6 @@
 // checks on every setQ, which made a leg solve cost 100 µs per iteration.
 #pragma once
 
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,21 +74,20 @@ struct LegSolveResult {
 // (0, or a flexion to keep).
 class LegSolver {
  public:
-  explicit LegSolver(std::vector<LegChain> chains, const LegSolveOptions& options = {});
+  // `model`: the robot the chains are on (FindLegChain's).
+  LegSolver(const Model& model, std::vector<LegChain> chains, const LegSolveOptions& options = {});
 
-  // The legs' root links are placed at q by the workspace's model (its own forward kinematics: the workspace
-  // itself is left as it was).
+  // The legs' root links are placed at q by the model's own forward kinematics (tree_kinematics.h).
   // `previous` (nq, or null) with `dt` > 0: each joint stays within its velocity limit × dt of its value there,
   // the bound the per-frame IK and the refinement keep (a leg that cannot follow its foot that fast falls
   // short instead of jumping to another branch). `unbounded` (one entry per chain, or null): chains solved
   // without that bound, their position limits kept.
-  LegSolveResult solve(Workspace& workspace, const std::vector<Eigen::Isometry3d>& targets,
+  LegSolveResult solve(const std::vector<Eigen::Isometry3d>& targets,
                        const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor = 0.0,
                        const Eigen::VectorXd* previous = nullptr, double dt = 0.0,
                        const std::vector<bool>* unbounded = nullptr);
 
-  // solve with each chain's root-link pose given (`roots`, one per chain) instead of read from a realised
-  // workspace: for a caller that moves the base many times per frame (contact_enforcement's base correction).
+  // solve with each chain's root-link pose given (`roots`, one per chain) instead of placed at q: for a caller that moves the base many times per frame (contact_enforcement's base correction).
   LegSolveResult solveFromRoots(const std::vector<Eigen::Isometry3d>& roots, const std::vector<Eigen::Isometry3d>& targets,
                                 const std::vector<bool>& active, Eigen::VectorXd& q, double branch_floor = 0.0,
                                 const Eigen::VectorXd* previous = nullptr, double dt = 0.0,
@@ -116,7 +114,7 @@ class LegSolver {
   LegSolveOptions options_;
   std::vector<Eigen::Isometry3d> reached_;
   std::vector<Eigen::Isometry3d> roots_;  // solve's root-link poses
-  std::optional<TreeKinematics> tree_;    // places them: the first solve's workspace's model
+  TreeKinematics tree_;                   // places them
   // The joints' world frames during footPose (fixed capacity: no allocation per solve).
   mutable std::vector<Eigen::Vector3d> joint_axis_, joint_position_;
   std::vector<double> saved_, lower_, upper_;  // per chain joint, for the solve under way

@@ -172,8 +172,8 @@ int main(int argc, char** argv) {
            }
            char* end = nullptr;
            const double value = std::strtod(text.c_str(), &end);
-           if (end == text.c_str() || *end != '\0' || !(value >= 0 && value <= M_PI / 2)) {
-             throw CLI::ValidationError("--max-roll", "must be map or an angle in [0, 1.5708] rad, not '" + text + "'");
+           if (end == text.c_str() || *end != '\0') {  // the range: RetargetOptions::IsValid
+             throw CLI::ValidationError("--max-roll", "must be map or an angle in rad, not '" + text + "'");
            }
            options.max_roll = value;
          },

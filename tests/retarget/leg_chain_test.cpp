@@ -61,8 +61,8 @@ TEST_F(LegChainTest, ReachableFootPoseIsSolvedExactlyAndNothingElseMoves) {
   for (const LegChain& chain : chains) {
     for (int index : chain.q_index) q[index] = 0.0;
   }
-  LegSolver solver(chains);
-  const LegSolveResult result = solver.solve(workspace_, targets, {true, true}, q);
+  LegSolver solver(model_, chains);
+  const LegSolveResult result = solver.solve(targets, {true, true}, q);
   EXPECT_LT(result.position_error, 1e-6);
   EXPECT_LT(result.angle_error, 1e-6);
   EXPECT_LT(result.iterations, 15);
@@ -80,9 +80,9 @@ TEST_F(LegChainTest, ReachedPoseIsSimbodysAndTheVelocityBoxHolds) {
   Eigen::Isometry3d far = workspace_.findLinkPose(chains[0].foot_link);
   far.translation() += Eigen::Vector3d(0.3, 0.1, 0.2);  // a big step in one frame
   Eigen::VectorXd q = previous;
-  LegSolver solver(chains);
+  LegSolver solver(model_, chains);
   const double dt = 1.0 / 120.0;
-  solver.solve(workspace_, {far}, {true}, q, 0.0, &previous, dt);
+  solver.solve({far}, {true}, q, 0.0, &previous, dt);
   for (size_t k = 0; k < chains[0].size(); ++k) {
     const int index = chains[0].q_index[k];
     EXPECT_LE(std::abs(q[index] - previous[index]), chains[0].speed_limit[k] * dt + 1e-12) << model_.coordinateNames()[static_cast<size_t>(index)];
@@ -93,12 +93,12 @@ TEST_F(LegChainTest, ReachedPoseIsSimbodysAndTheVelocityBoxHolds) {
   EXPECT_LT((solver.reached(0).linear() - simbody.linear()).norm(), 1e-12);
   // Without the box the same step is reached.
   Eigen::VectorXd free = previous;
-  const LegSolveResult unbounded = solver.solve(workspace_, {far}, {true}, free);
+  const LegSolveResult unbounded = solver.solve({far}, {true}, free);
   EXPECT_LT(unbounded.position_error, 1e-6);
   // A chain marked unbounded (a planted foot's leg, contact_enforcement.h) reaches it with the box given.
   Eigen::VectorXd planted = previous;
   const std::vector<bool> lifted = {true};
-  const LegSolveResult over_speed = solver.solve(workspace_, {far}, {true}, planted, 0.0, &previous, dt, &lifted);
+  const LegSolveResult over_speed = solver.solve({far}, {true}, planted, 0.0, &previous, dt, &lifted);
   EXPECT_LT(over_speed.position_error, 1e-6);
   EXPECT_LT((planted - free).norm(), 1e-9);
 }
@@ -121,8 +121,8 @@ TEST(LegChainHrp4c, ReachedPoseIsSimbodys) {
     target.translation().z() += 0.05;
     targets.push_back(target);
   }
-  LegSolver solver(chains);
-  solver.solve(workspace, targets, {true, true}, q);
+  LegSolver solver(model, chains);
+  solver.solve(targets, {true, true}, q);
   workspace.setQ(q);
   for (size_t c = 0; c < chains.size(); ++c) {
     const Eigen::Isometry3d simbody = workspace.findLinkPose(chains[c].foot_link);
@@ -137,8 +137,8 @@ TEST_F(LegChainTest, InactiveChainIsLeftAlone) {
   Eigen::VectorXd q = model_.defaultQ();
   q[Coordinate("left_knee_joint")] = 0.5;
   const Eigen::VectorXd before = q;
-  LegSolver solver(chains);
-  solver.solve(workspace_, {Eigen::Isometry3d::Identity()}, {false}, q);
+  LegSolver solver(model_, chains);
+  solver.solve({Eigen::Isometry3d::Identity()}, {false}, q);
   EXPECT_EQ(q, before);
 }
 

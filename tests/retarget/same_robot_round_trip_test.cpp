@@ -186,6 +186,26 @@ std::string Describe(const JointErrors& e) {
   return out;
 }
 
+// The virtual markers of `frames` (frame 0 the reference stance) written as a markers file at `path`.
+void WriteVirtualMarkers(const Model& model, const RobotMap& map, const std::vector<Eigen::VectorXd>& frames,
+                         const std::string& path) {
+  IntermediateWriter writer(path, {kMarkersSchema, kMarkersSchemaVersion, "test", {}, nlohmann::json::array()});
+  WriteMarkerData(writer, VirtualMarkers(model, map, frames));
+  writer.commit();
+}
+
+// Retargeting virtual markers back onto the G1 with reference_time = 0 (the prepended zero pose).
+RetargetOptions VirtualMarkerOptions(const std::string& urdf, const std::string& map_path, const std::string& markerset,
+                                     bool enforce) {
+  RetargetOptions options;
+  options.model = urdf;
+  options.robot_map = map_path;
+  options.markerset = markerset;
+  options.reference_time = 0;
+  options.enforce_contacts = enforce;
+  return options;
+}
+
 TEST(RetargetSameRobotRoundTrip, EveryG1MotionComesBackToItsJointAngles) {
   SYN_REQUIRE_SHARED("robot_motion");
   const std::vector<fs::path> motions = G1Motions();
@@ -235,20 +255,11 @@ TEST(RetargetSameRobotRoundTrip, EveryG1MotionComesBackToItsJointAngles) {
     }
 
     const std::string markers = (dir / (stem + ".markers.h5")).string();
-    {
-      IntermediateWriter writer(markers, {kMarkersSchema, kMarkersSchemaVersion, "test", {}, nlohmann::json::array()});
-      WriteMarkerData(writer, VirtualMarkers(model, map, frames));
-      writer.commit();
-    }
+    WriteVirtualMarkers(model, map, frames, markers);
 
     for (const bool enforce : {true, false}) {
       SCOPED_TRACE(enforce ? "enforce_contacts = true (default)" : "enforce_contacts = false");
-      RetargetOptions options;
-      options.model = urdf;
-      options.robot_map = map_path;
-      options.markerset = markerset;
-      options.reference_time = 0;
-      options.enforce_contacts = enforce;
+      const RetargetOptions options = VirtualMarkerOptions(urdf, map_path, markerset, enforce);
       RetargetSummary summary;
       MotionData motion;
       const auto start = std::chrono::steady_clock::now();
@@ -297,24 +308,6 @@ TEST(RetargetSameRobotRoundTrip, EveryG1MotionComesBackToItsJointAngles) {
   }
 }
 
-// Markers from `frames` (frame 0 the reference stance), retargeted with reference_time = 0.
-MotionData RetargetVirtualMarkers(const Model& model, const RobotMap& map, const std::vector<Eigen::VectorXd>& frames,
-                                  const std::string& markers, const std::string& urdf, const std::string& map_path,
-                                  const std::string& markerset, bool enforce, RetargetSummary* summary = nullptr) {
-  {
-    IntermediateWriter writer(markers, {kMarkersSchema, kMarkersSchemaVersion, "test", {}, nlohmann::json::array()});
-    WriteMarkerData(writer, VirtualMarkers(model, map, frames));
-    writer.commit();
-  }
-  RetargetOptions options;
-  options.model = urdf;
-  options.robot_map = map_path;
-  options.markerset = markerset;
-  options.reference_time = 0;
-  options.enforce_contacts = enforce;
-  return RetargetFile(markers, options, summary);
-}
-
 // The Kimodo motions break the contacts they are asked to keep (their planted soles slide 13-39 mm a phase,
 // tilt up to 34° and dip up to 38 mm into the floor), so their round trip above measures what the contacts
 // must change as much as what the retargeter gets wrong. Here the source is a G1 motion that keeps them: each
@@ -340,9 +333,10 @@ TEST(RetargetSameRobotRoundTrip, AMotionThatKeepsItsContactsComesBackAsTheIkAlon
     const MotionData csv = ReadRobotCsv(file.string(), model, kRate);
     std::vector<Eigen::VectorXd> frames = {reference};
     for (int64_t t = 0; t < csv.frames(); ++t) frames.push_back(Eigen::Map<const Eigen::VectorXd>(&csv.q[static_cast<size_t>(t * nq)], nq));
+    const std::string markers = (scratch.path / (stem + ".markers.h5")).string();
+    WriteVirtualMarkers(model, map, frames, markers);
     RetargetSummary kept;
-    const MotionData enforced = RetargetVirtualMarkers(model, map, frames, (scratch.path / (stem + ".markers.h5")).string(),
-                                                       urdf, map_path, markerset, true, &kept);
+    const MotionData enforced = RetargetFile(markers, VirtualMarkerOptions(urdf, map_path, markerset, true), &kept);
     ASSERT_EQ(enforced.nq(), nq);
     EXPECT_LE(kept.max_drift, 0.005) << stem << ": the enforced motion's planted soles are still (m)";
     EXPECT_LE(kept.deepest_penetration, 0.005) << stem << ": and out of the floor (m)";
@@ -353,10 +347,11 @@ TEST(RetargetSameRobotRoundTrip, AMotionThatKeepsItsContactsComesBackAsTheIkAlon
     source.q.assign(enforced.q.begin() + nq, enforced.q.end());
     frames = {reference};
     for (int64_t t = 0; t < source.frames(); ++t) frames.push_back(Eigen::Map<const Eigen::VectorXd>(&source.q[static_cast<size_t>(t * nq)], nq));
+    const std::string kept_markers = (scratch.path / (stem + ".kept.markers.h5")).string();
+    WriteVirtualMarkers(model, map, frames, kept_markers);
     JointErrors errors[2];
     for (const bool enforce : {true, false}) {
-      const MotionData back = RetargetVirtualMarkers(model, map, frames, (scratch.path / (stem + ".kept.markers.h5")).string(),
-                                                     urdf, map_path, markerset, enforce);
+      const MotionData back = RetargetFile(kept_markers, VirtualMarkerOptions(urdf, map_path, markerset, enforce), nullptr);
       ASSERT_EQ(back.frames(), source.frames() + 1);
       errors[enforce] = Compare(source, back);
       std::cout << stem << " keeping its contacts" << (enforce ? " [enforce_contacts]   " : " [no enforcement]    ")
