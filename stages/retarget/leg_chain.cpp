@@ -88,6 +88,7 @@ LegSolver::LegSolver(const Model& model, std::vector<LegChain> chains, const Leg
     : chains_(std::move(chains)),
       options_(options),
       reached_(chains_.size(), Eigen::Isometry3d::Identity()),
+      free_jacobian_(chains_.size()),
       roots_(chains_.size(), Eigen::Isometry3d::Identity()),
       tree_(model) {
   size_t widest = 0, longest = 0;
@@ -199,8 +200,9 @@ LegSolveResult LegSolver::solveFromRoots(const std::vector<Eigen::Isometry3d>& r
       }
       // Gauss-Newton on ‖e − J δ‖², Levenberg-damped: (JᵀJ + λ I) δ = Jᵀe, with λ raised until a step lowers
       // the error.
-      normal.noalias() = jacobian.transpose() * jacobian;
-      gradient.noalias() = jacobian.transpose() * error;
+      // lazyProduct: at most 8 × 8, where Eigen's general matrix product costs more to set up than to run.
+      normal.noalias() = jacobian.transpose().lazyProduct(jacobian);
+      gradient.noalias() = jacobian.transpose().lazyProduct(error);
       // Converged onto the limits: every joint that could lower the error is on the bound it would cross (an
       // unreachable target's nearest pose). No step can improve, so the damping search below would only
       // fail 8 times over.
@@ -215,7 +217,7 @@ LegSolveResult LegSolver::solveFromRoots(const std::vector<Eigen::Isometry3d>& r
       for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
         damped = normal;
         damped.diagonal().array() += damping;
-        step = damped.ldlt().solve(gradient);
+        step = damped.llt().solve(gradient);  // positive definite: JᵀJ plus a positive damping
         for (Eigen::Index j = 0; j < n; ++j) {
           const size_t k = static_cast<size_t>(j);
           saved_[k] = q[chain.q_index[k]];
@@ -239,6 +241,12 @@ LegSolveResult LegSolver::solveFromRoots(const std::vector<Eigen::Isometry3d>& r
       if (!improved) break;
     }
     reached_[c] = pose;
+    free_jacobian_[c] = jacobian;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const size_t k = static_cast<size_t>(j);
+      const double joint = q[chain.q_index[k]];
+      if (joint <= lower_[k] || joint >= upper_[k]) free_jacobian_[c].col(j).setZero();
+    }
     result.iterations += iteration;
     result.position_error = std::max(result.position_error, error.tail<3>().norm());
     result.angle_error = std::max(result.angle_error, error.head<3>().norm() / options_.angle_scale);

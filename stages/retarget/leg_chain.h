@@ -98,6 +98,16 @@ class LegSolver {
   // Restores what reached(c) says after a solve whose answer the caller discarded.
   void keepReached(size_t c, const Eigen::Isometry3d& pose) { reached_[c] = pose; }
 
+  using ChainJacobian = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxLegJoints>;
+
+  // Chain c's foot Jacobian at the last solve's answer (rows as its pose error: angle_scale × angular, then
+  // linear; one column per chain joint, foot first), with the columns of the joints that solve left on a
+  // bound (position, branch or speed) zeroed: the directions in which the leg can still follow its foot.
+  // What a caller moving the leg's root needs to know how much of that move the leg takes back.
+  const ChainJacobian& freeJacobian(size_t c) const { return free_jacobian_[c]; }
+
+  double angleScale() const { return options_.angle_scale; }
+
   // The weighted 6-D pose error the solver minimises, (angle_scale × rotation vector, translation), and its
   // squared norm.
   double poseError(const Eigen::Isometry3d& target, const Eigen::Isometry3d& pose, Eigen::Matrix<double, 6, 1>& error) const;
@@ -105,7 +115,6 @@ class LegSolver {
  private:
   using ChainMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxLegJoints, kMaxLegJoints>;
   using ChainVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxLegJoints, 1>;
-  using ChainJacobian = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxLegJoints>;
 
   // Chain c's foot pose at q from its root link's pose, and (when `jacobian`) the foot origin's 6 × n
   // Jacobian in the chain's joints, rows (angular, linear) with the angular ones scaled by angle_scale.
@@ -113,6 +122,7 @@ class LegSolver {
   std::vector<LegChain> chains_;
   LegSolveOptions options_;
   std::vector<Eigen::Isometry3d> reached_;
+  std::vector<ChainJacobian> free_jacobian_;
   std::vector<Eigen::Isometry3d> roots_;  // solve's root-link poses
   TreeKinematics tree_;                   // places them
   // The joints' world frames during footPose (fixed capacity: no allocation per solve).
