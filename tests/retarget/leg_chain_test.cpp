@@ -103,6 +103,54 @@ TEST_F(LegChainTest, ReachedPoseIsSimbodysAndTheVelocityBoxHolds) {
   EXPECT_LT((planted - free).norm(), 1e-9);
 }
 
+// freeJacobian, which the pelvis searches take their Levenberg-Marquardt Jacobian from: at the answer of a
+// solve that cannot reach its target, each column is the foot's pose derivative in that joint (central
+// differences of Simbody's foot pose; rows angle_scale × angular velocity, then linear), and the columns of
+// the joints the solve left on a bound (the velocity box's or a position limit) are zero.
+TEST_F(LegChainTest, FreeJacobianIsTheFootsDerivativeInTheJointsOffTheirBounds) {
+  std::vector<LegChain> chains = {FindLegChain(model_, workspace_, "left_ankle_roll_link", "g1.toml")};
+  const LegChain& chain = chains[0];
+  Eigen::VectorXd previous = model_.defaultQ();
+  previous.segment<3>(4) = Eigen::Vector3d(0.1, 0.2, 0.75);
+  previous[Coordinate("left_knee_joint")] = 0.4, previous[Coordinate("left_hip_pitch_joint")] = -0.3;
+  workspace_.setQ(previous);
+  Eigen::Isometry3d far = workspace_.findLinkPose(chain.foot_link);
+  far.translation() += Eigen::Vector3d(0.3, 0.1, 0.2);
+  Eigen::VectorXd q = previous;
+  LegSolver solver(model_, chains);
+  const double dt = 1.0 / 120.0;
+  solver.solve({far}, {true}, q, 0.0, &previous, dt);
+  const LegSolver::ChainJacobian& jacobian = solver.freeJacobian(0);
+  ASSERT_EQ(jacobian.cols(), static_cast<Eigen::Index>(chain.size()));
+  int on_bound = 0, free = 0;
+  constexpr double h = 1e-6;
+  for (size_t k = 0; k < chain.size(); ++k) {
+    const int index = chain.q_index[k];
+    const std::string& name = model_.coordinateNames()[static_cast<size_t>(index)];
+    const double reach = chain.speed_limit[k] * dt;
+    const double lower = std::max(chain.lower[k], previous[index] - reach), upper = std::min(chain.upper[k], previous[index] + reach);
+    if (q[index] <= lower + 1e-12 || q[index] >= upper - 1e-12) {
+      ++on_bound;
+      EXPECT_EQ(jacobian.col(static_cast<Eigen::Index>(k)).norm(), 0.0) << name << " is on a bound";
+      continue;
+    }
+    ++free;
+    Eigen::VectorXd plus = q, minus = q;
+    plus[index] += h, minus[index] -= h;
+    workspace_.setQ(plus);
+    const Eigen::Isometry3d after = workspace_.findLinkPose(chain.foot_link);
+    workspace_.setQ(minus);
+    const Eigen::Isometry3d before = workspace_.findLinkPose(chain.foot_link);
+    const Eigen::AngleAxisd turn(after.linear() * before.linear().transpose());
+    Eigen::Matrix<double, 6, 1> expected;
+    expected << solver.angleScale() * turn.axis() * turn.angle() / (2 * h), (after.translation() - before.translation()) / (2 * h);
+    EXPECT_LT((jacobian.col(static_cast<Eigen::Index>(k)) - expected).norm(), 1e-7) << name;
+  }
+  // The big step leaves some joints on their velocity box and some free, so both kinds are checked.
+  EXPECT_GT(on_bound, 0);
+  EXPECT_GT(free, 0);
+}
+
 // HRP-4C: a virtual floating base (six massless joints) above the legs, and its own joint frames.
 TEST(LegChainHrp4c, ReachedPoseIsSimbodys) {
   SYN_REQUIRE_SHARED("robots/humanoid_synergies/HRP4c_optitrack_model.urdf");
