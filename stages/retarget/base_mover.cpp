@@ -9,12 +9,22 @@
 namespace syn {
 namespace {
 
-// The x-y-z angles (R = Rx(a) Ry(b) Rz(c)) of `rotation` nearest `near` (each within π of it).
+// `angles` with each shifted by whole turns to within π of `near`.
+Eigen::Vector3d NearestTurns(Eigen::Vector3d angles, const Eigen::Vector3d& near) {
+  for (int i = 0; i < 3; ++i) angles[i] += 2 * M_PI * std::round((near[i] - angles[i]) / (2 * M_PI));
+  return angles;
+}
+
+// The x-y-z angles (R = Rx(a) Ry(b) Rz(c)) of `rotation` nearest `near`. Every rotation has two such triples,
+// (a, b, c) and (a + π, π − b, c + π), each up to whole turns: the nearer one over all three angles. With
+// only the first, a pelvis pitched near ±90° (CMU 94_07's deep squat onto HRP-4C) had a and c picked a turn
+// apart from one frame to the next, 2π steps in its virtual base's coordinates.
 Eigen::Vector3d XyzAngles(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& near) {
   const double b = std::asin(std::clamp(rotation(0, 2), -1.0, 1.0));
-  Eigen::Vector3d angles(std::atan2(-rotation(1, 2), rotation(2, 2)), b, std::atan2(-rotation(0, 1), rotation(0, 0)));
-  for (int i : {0, 2}) angles[i] += 2 * M_PI * std::round((near[i] - angles[i]) / (2 * M_PI));
-  return angles;
+  const Eigen::Vector3d first(std::atan2(-rotation(1, 2), rotation(2, 2)), b, std::atan2(-rotation(0, 1), rotation(0, 0)));
+  const Eigen::Vector3d one = NearestTurns(first, near);
+  const Eigen::Vector3d other = NearestTurns(first + Eigen::Vector3d(M_PI, M_PI - 2 * b, M_PI), near);
+  return (other - near).squaredNorm() < (one - near).squaredNorm() ? other : one;
 }
 
 }  // namespace

@@ -786,7 +786,9 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   // How far the base must come down for every corrected target to be within reach of a leg whose knee keeps
   // `stance_knee`: each such leg is solved with that floor first, and where it falls short, the distance it
   // did reach from its hip is the radius of the sphere the target must come within.
-  LegSolver solver(model, chains);
+  LegSolveOptions leg_options;
+  leg_options.velocity_limit_scale = options.velocity_limit_scale;
+  LegSolver solver(model, chains, leg_options);
   Eigen::VectorXd previous(nq);
   int64_t previous_frame = -2;
   std::vector<double> need(static_cast<size_t>(frames), 0.0);

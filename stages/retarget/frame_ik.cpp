@@ -8,6 +8,7 @@
 #include "common/configuration_space.h"
 #include "common/tree_kinematics.h"
 #include "stages/retarget/branch_joints.h"
+#include "stages/retarget/speed_bound.h"
 
 namespace syn {
 namespace {
@@ -303,7 +304,7 @@ FrameIkSummary FrameIk::solveOnce(const std::vector<IkTarget>& targets, Eigen::V
     // frame at 120 Hz): a box that wide let a frame of CMU 94_07 jump to the other Euler-angle solution for
     // the same pelvis orientation (r1 -0.14 -> 9.0 rad), after which r2 and r3 spun to ±8000 rad.
     const double speed = impl.model.actuatedVelocities()[static_cast<size_t>(u)]
-                             ? impl.model.uLimit()[u]
+                             ? SpeedPerScaledSecond(impl.model.uLimit()[u], impl.options.velocity_limit_scale)
                              : std::min(impl.model.uLimit()[u], kUnactuatedSpeed);
     const double reach = step_time * speed;
     if (step_time > 0 && std::isfinite(reach)) {

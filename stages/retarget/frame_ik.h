@@ -56,6 +56,8 @@ struct FrameIkOptions {
   // the cost is within 0.1 % of its minimum and tighter tolerances spent 5-10 more, mostly rejected,
   // iterations per frame for no change in the landmark errors over the real-data sweep.
   double function_tolerance = 1e-3;
+  // The multiple of the URDF velocity limits solve()'s step_time is scaled by (speed_bound.h).
+  double velocity_limit_scale = 1.0;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-9;
 };
@@ -79,7 +81,8 @@ class FrameIk {
 
   // Solves one frame in place: q holds the warm start on entry and the
   // solution on exit. `targets` has one entry per task. With step_time > 0
-  // each joint moves at most its URDF velocity limit × step_time.
+  // each joint moves at most SpeedPerScaledSecond(its URDF velocity limit) × step_time (speed_bound.h;
+  // step_time is the frame's duration times options.velocity_limit_scale).
   FrameIkSummary solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time = 0.0);
 
   // Solves are taken to be on consecutive frames, each warm-started from the previous solution; call

@@ -7,6 +7,7 @@
 
 #include "common/error.h"
 #include "stages/retarget/branch_joints.h"
+#include "stages/retarget/speed_bound.h"
 
 namespace syn {
 namespace {
@@ -180,7 +181,7 @@ LegSolveResult LegSolver::solveFromRoots(const std::vector<Eigen::Isometry3d>& r
       // straight-legged frame would restart bent and land on another of the poses equally near an
       // unreachable target (0 <-> 0.46 rad a frame on CMU 05_02).
       if (chain.branch[k] && joint < lower_[k]) joint = lower_[k] + kBranchStart;
-      const double reach = chain.speed_limit[k] * dt;
+      const double reach = SpeedPerScaledSecond(chain.speed_limit[k], options_.velocity_limit_scale) * dt;
       if (speed_bound && std::isfinite(reach)) {
         // As the refinement's clamp: a previous value outside the limits still leaves a non-empty box.
         const double before = (*previous)[chain.q_index[k]];

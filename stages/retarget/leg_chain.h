@@ -59,6 +59,7 @@ struct LegSolveOptions {
   double damping = 1e-4;             // initial Levenberg–Marquardt damping
   double angle_scale = 0.1;          // m per rad: how angle errors weigh against position errors
   double max_step = 0.3;             // rad per iteration and joint: keeps an early step on its branch
+  double velocity_limit_scale = 1.0; // what solve()'s dt is scaled by (speed_bound.h)
 };
 
 struct LegSolveResult {

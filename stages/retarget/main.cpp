@@ -2,8 +2,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <iostream>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +45,22 @@ void PrintWorstFrames(const syn::MotionData& motion, int part, size_t count, dou
               << t << " (t = " << motion.time_s[t] << " s), " << motion.landmark_names[which[t]] << " "
               << (part == 0 ? worst[t] * 1000 : worst[t] * 180 / M_PI) << (part == 0 ? " mm" : " deg") << "\n";
   }
+}
+
+// The parser of an option that is a number or `map`, the robot map's value (`target` left unset); the
+// number's range is RetargetOptions::IsValid's to check.
+std::function<void(const std::string&)> MapOrNumber(const std::string& flag, const std::string& expected,
+                                                    std::optional<double>& target) {
+  return [flag, expected, &target](const std::string& text) {
+    if (text == "map") {
+      target.reset();
+      return;
+    }
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end != '\0') throw CLI::ValidationError(flag, "must be map or " + expected + ", not '" + text + "'");
+    target = value;
+  };
 }
 
 }  // namespace
@@ -86,9 +104,10 @@ int main(int argc, char** argv) {
          },
          "Robot/subject height ratio for landmark displacements, or auto (measured: head to feet)")
       ->default_str("auto");
-  app.add_option("--velocity-limit-scale", options.velocity_limit_scale,
-                 "Bound each frame's joint step by this fraction of the URDF velocity limit (0: unbounded)")
-      ->capture_default_str();
+  app.add_option_function<std::string>("--velocity-limit-scale", MapOrNumber("--velocity-limit-scale", "a number >= 0", options.velocity_limit_scale),
+                                       "Bound each frame's joint step by this multiple of the URDF velocity limit (0: "
+                                       "unbounded). map: the robot map's velocity_limit_scale (1 unless it says)")
+      ->default_str("map");
   app.add_option("--smoothing", options.smoothing,
                  "Trajectory refinement: weight of accelerations against tracking (1: 10 rad/s^2 costs like 1 mm); "
                  "0 = per-frame IK only")
@@ -164,19 +183,7 @@ int main(int argc, char** argv) {
                  "Half-width (s) of the smoothing of the pelvis moves --move-base-for-plants makes")
       ->capture_default_str();
   app.add_option_function<std::string>(
-         "--max-roll",
-         [&](const std::string& text) {
-           if (text == "map") {
-             options.max_roll.reset();
-             return;
-           }
-           char* end = nullptr;
-           const double value = std::strtod(text.c_str(), &end);
-           if (end == text.c_str() || *end != '\0') {  // the range: RetargetOptions::IsValid
-             throw CLI::ValidationError("--max-roll", "must be map or an angle in rad, not '" + text + "'");
-           }
-           options.max_roll = value;
-         },
+         "--max-roll", MapOrNumber("--max-roll", "an angle in rad", options.max_roll),
          "Planted feet pitch with the source about their heel or toe edge (heel strike, toe-off) by at most this "
          "angle (rad) instead of lying flat; the sole centre moves with the roll. map: the robot map's max_roll "
          "(0, flat, unless it says)")

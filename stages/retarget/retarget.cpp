@@ -270,7 +270,7 @@ MotionData EmptyMotion(const Model& model, const MarkerData& capture, const Land
 // frame tracked, for the refinement.
 void SolveFrames(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
                  const std::vector<LandmarkSample>& reference_samples, const std::vector<Eigen::Isometry3d>& link_reference,
-                 const StanceAlignment& alignment, const Eigen::VectorXd& q_start, const RetargetOptions& options,
+                 const StanceAlignment& alignment, const Eigen::VectorXd& q_start, double velocity_limit_scale,
                  FrameIk& ik, MotionData& motion, std::vector<std::vector<IkTarget>>& frame_targets,
                  std::vector<int64_t>& bridged, RetargetSummary& report) {
   const int64_t frames = landmarks.frames, nq = static_cast<int64_t>(q_start.size());
@@ -282,7 +282,7 @@ void SolveFrames(const LandmarkTrajectories& landmarks, const TrackedTasks& task
       bridged.push_back(t);
       ik.forgetHistory();
     } else {
-      const double step_time = std::isfinite(last_solved_time) ? options.velocity_limit_scale *
+      const double step_time = std::isfinite(last_solved_time) ? velocity_limit_scale *
                                                                      (motion.time_s[static_cast<size_t>(t)] - last_solved_time)
                                                                : 0.0;
       FrameIkSummary solved = ik.solve(targets, q, step_time);
@@ -628,7 +628,7 @@ bool RetargetOptions::HasValidValues(std::string* error) const {
     return false;
   };
   if (!(smoothing >= 0)) return fail("--smoothing must be >= 0 (0: no trajectory refinement)");
-  if (!(velocity_limit_scale >= 0)) return fail("--velocity-limit-scale must be >= 0 (0: unbounded)");
+  if (velocity_limit_scale && !(*velocity_limit_scale >= 0)) return fail("--velocity-limit-scale must be >= 0 (0: unbounded)");
   if (!(scale >= 0)) return fail("--scale must be auto or a positive number");
   if (max_bridge < 0) return fail("--max-bridge must be >= 0");
   if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
@@ -641,7 +641,7 @@ nlohmann::json RetargetOptions::ToJson() const {
   nlohmann::json scale_json = "auto";
   if (scale > 0) scale_json = scale;
   return {{"floating_base", FloatingBaseChoiceName(floating_base)}, {"reference_time", reference_time},
-          {"scale", scale_json}, {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale},
+          {"scale", scale_json}, {"max_bridge", max_bridge}, {"velocity_limit_scale", velocity_limit_scale ? nlohmann::json(*velocity_limit_scale) : nlohmann::json("map")},
           {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance},
           {"contact_height", contact.height}, {"contact_speed", contact.speed}, {"contact_release", contact.release},
           {"contact_min_duration", contact.min_duration}, {"enforce_contacts", enforce_contacts},
@@ -776,10 +776,12 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
     for (int64_t landmark : tasks.landmark) reference_samples.push_back(SampleAt(stance_landmarks, reference, landmark));
   }
   const RobotMap& map = inputs.map;
+  const double velocity_limit_scale = options.velocity_limit_scale.value_or(map.velocity_limit_scale);
   const double posture_weight =
       map.priority_weights[static_cast<size_t>(map.posture_priority - 1)] * map.posture_weight * options.posture_scale;
   FrameIkOptions ik_options;
   ik_options.function_tolerance = options.ik_function_tolerance;
+  ik_options.velocity_limit_scale = velocity_limit_scale;
   FrameIk ik(model, tasks.ik, q_posture, posture_weight, ik_options);
 
   MotionData motion = EmptyMotion(model, inputs.capture, landmarks, tasks);
@@ -792,7 +794,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   // from where the next frames bend it only as fast as the motors allow.
   Eigen::VectorXd q_start = q_posture;
   BendBranchJoints(BranchCoordinates(model), q_start);
-  SolveFrames(landmarks, tasks, reference_samples, link_reference, alignment, q_start, options, ik, motion,
+  SolveFrames(landmarks, tasks, reference_samples, link_reference, alignment, q_start, velocity_limit_scale, ik, motion,
               frame_targets, bridged, report);
   report.ik_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   BridgeGaps(model, motion.time_s, bridged, options.max_bridge, inputs.capture_path, motion.q);
@@ -800,7 +802,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   const auto refine_start = std::chrono::steady_clock::now();
   RefinementOptions refinement;
   refinement.smoothing = options.smoothing;
-  refinement.velocity_limit_scale = options.velocity_limit_scale;
+  refinement.velocity_limit_scale = velocity_limit_scale;
   RefineTrajectory(ik, model, frame_targets, motion.time_s, motion.q, refinement);
   report.refinement_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - refine_start).count();
 
@@ -815,7 +817,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
         model, q_first, [&](const Eigen::VectorXd& at) { return LowestSolePoint(model, workspace, map, at); });
     const auto enforce_start = std::chrono::steady_clock::now();
     ContactEnforcementOptions enforcement = options.enforcement;
-    enforcement.velocity_limit_scale = options.velocity_limit_scale;
+    enforcement.velocity_limit_scale = velocity_limit_scale;
     enforcement.max_roll = options.max_roll.value_or(map.max_roll);
     EnforceContacts(model, workspace, map.feet, contacts, SourceFootPoses(motion, foot_tasks),
                     vertical, motion.time_s, map.file, enforcement, motion.q, &report.enforcement);

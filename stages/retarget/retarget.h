@@ -53,8 +53,9 @@ struct RetargetOptions {
   double max_bridge = 0.25;
   // Each frame's joint step is bounded by this fraction of the URDF velocity limit times the time since
   // the previous solved frame (0 = unbounded): the robot cannot follow a target faster than its motors,
-  // and the IK cannot jump to another branch of its solutions between two frames.
-  double velocity_limit_scale = 1.0;
+  // and the IK cannot jump to another branch of its solutions between two frames. Unset: the robot map's
+  // velocity_limit_scale (1 unless it says).
+  std::optional<double> velocity_limit_scale;
   // Weight of accelerations in the trajectory refinement (trajectory_refinement.h); 0 = per-frame IK only.
   double smoothing = 1.0;
   // Multiplies the robot map's posture weight. Joint centres alone (no segment orientations, e.g.

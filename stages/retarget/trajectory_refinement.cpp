@@ -11,6 +11,7 @@
 #include "common/configuration_space.h"
 #include "stages/retarget/block_banded_system.h"
 #include "stages/retarget/branch_joints.h"
+#include "stages/retarget/speed_bound.h"
 
 namespace syn {
 namespace {
@@ -124,7 +125,9 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
       double lower = lower_limit[u + q_offset], upper = model.qUpper()[u + q_offset];
       // The velocity limit from the previous (already final) frame: the smoothing does not bound
       // velocities by itself, and on the fastest captures it would ask more of a motor than the IK did.
-      const double reach = t > 0 ? options.velocity_limit_scale * model.uLimit()[u] * (times[static_cast<size_t>(t)] - times[static_cast<size_t>(t - 1)]) : 0.0;
+      const double reach = t > 0 ? options.velocity_limit_scale * SpeedPerScaledSecond(model.uLimit()[u], options.velocity_limit_scale) *
+                                       (times[static_cast<size_t>(t)] - times[static_cast<size_t>(t - 1)])
+                                 : 0.0;
       if (t > 0 && options.velocity_limit_scale > 0 && std::isfinite(reach)) {
         const double previous = q[static_cast<size_t>((t - 1) * nq + u + q_offset)];
         lower = std::max(lower, std::min(previous - reach, upper));

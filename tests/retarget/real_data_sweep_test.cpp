@@ -17,11 +17,15 @@
 #include <unistd.h>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "common/intermediate_file.h"
 #include "common/markers_file.h"
 #include "common/model.h"
+#include "common/robot_map.h"
 #include "stages/ingest/ingest.h"
 #include "stages/retarget/retarget.h"
+#include "stages/retarget/speed_bound.h"
 #include "tests/support/demo_motion.h"
 #include "tests/support/shared_data.h"
 
@@ -97,14 +101,27 @@ void SweepOnto(const Robot& robot) {
       RetargetSummary summary;
       const MotionData motion = RetargetFile(markers, options, &summary);
       const Model model = Model::Load(robot.urdf);
+      const double speed_scale = LoadRobotMap(robot.map).velocity_limit_scale;  // what the stage bounds steps by
       ++runs;
 
       const int64_t nq = motion.nq(), frames = motion.frames();
       const int first_joint = model.hasFreeBase() ? 7 : 0;
       std::set<int> prismatic_coordinates;
+      std::vector<int> virtual_turns;  // a virtual base chain's x, y, z revolute coordinates (HRP-4C's)
       for (const ModelJoint& joint : model.joints()) {
         if (joint.type == "prismatic") prismatic_coordinates.insert(joint.q_index);
+        if (joint.type == "revolute" && joint.u_index >= 0 && !model.actuatedVelocities()[static_cast<size_t>(joint.u_index)]) {
+          virtual_turns.push_back(joint.q_index);
+        }
       }
+      // Their orientation Rx Ry Rz at frame t: near a pitch of ±90° the three angles themselves may swing by
+      // much more than the orientation turns, so the base's continuity is that orientation's.
+      const auto base_rotation = [&](int64_t t) {
+        const double* row = &motion.q[static_cast<size_t>(t * nq)];
+        return Eigen::Matrix3d(Eigen::AngleAxisd(row[virtual_turns[0]], Eigen::Vector3d::UnitX()) *
+                               Eigen::AngleAxisd(row[virtual_turns[1]], Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(row[virtual_turns[2]], Eigen::Vector3d::UnitZ()));
+      };
       bool finite = true, within_limits = true, continuous = true;
       std::string where;
       for (int64_t t = 0; t < frames; ++t) {
@@ -118,14 +135,17 @@ void SweepOnto(const Robot& robot) {
             within_limits = false;
             where = motion.coordinate_names[static_cast<size_t>(i)] + " frame " + std::to_string(t);
           }
-          if (t > 0) {
-            // Continuity: each joint moves at most its URDF velocity limit × dt per frame (the IK and the
-            // refinement both keep that bound); a coordinate with no real limit (a virtual base's
-            // 1000 rad/s) at most kMaxJointSpeed, or kMaxBaseSpeed if prismatic. A flip between IK
-            // branches (about π in one frame) is far above either.
+          const bool virtual_turn = std::find(virtual_turns.begin(), virtual_turns.end(), static_cast<int>(i)) != virtual_turns.end();
+          if (t > 0 && !virtual_turn) {
+            // Continuity: each joint moves at most its URDF velocity limit × dt per frame, times the robot
+            // map's velocity_limit_scale up to speed_bound.h's cap (the IK and the refinement both keep that
+            // bound; HRP-4C's map allows 4 times its URDF speeds); a coordinate with no real limit (a virtual base's 1000 rad/s)
+            // at most kMaxJointSpeed, or kMaxBaseSpeed if prismatic. A flip between IK branches (about π in
+            // one frame) is far above either.
             const double step = std::abs(q - motion.q[static_cast<size_t>((t - 1) * nq + i)]);
             const bool prismatic = prismatic_coordinates.count(static_cast<int>(i)) > 0;
-            const double speed = std::min(model.uLimit()[i - (model.hasFreeBase() ? 1 : 0)],
+            const double urdf_speed = model.uLimit()[i - (model.hasFreeBase() ? 1 : 0)];
+            const double speed = std::min(speed_scale * SpeedPerScaledSecond(urdf_speed, speed_scale),
                                           prismatic ? kMaxBaseSpeed : kMaxJointSpeed);
             const double bound = speed * dt + 1e-9;
             if (step > bound) {
@@ -134,6 +154,14 @@ void SweepOnto(const Robot& robot) {
                       std::to_string(step) + ", bound " + std::to_string(bound);
             }
           }
+        }
+      }
+      for (int64_t t = 1; t < frames && virtual_turns.size() == 3; ++t) {
+        const double dt = motion.time_s[static_cast<size_t>(t)] - motion.time_s[static_cast<size_t>(t - 1)];
+        const double turn = Eigen::AngleAxisd(base_rotation(t) * base_rotation(t - 1).transpose()).angle();
+        if (turn > kMaxJointSpeed * dt + 1e-9) {
+          continuous = false;
+          where = "the virtual base's orientation, frame " + std::to_string(t) + ": turned " + std::to_string(turn) + " rad";
         }
       }
       for (double value : motion.u) finite = finite && std::isfinite(value);
