@@ -90,4 +90,27 @@ void Interpolate(const ConfigurationShape& shape, const Eigen::VectorXd& q0, con
   Interpolate(shape, q0.data(), q1.data(), s, q.data());
 }
 
+Eigen::Matrix3d CrossMatrix(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+Eigen::Matrix3d RotationLeftJacobian(const Eigen::Vector3d& phi) {
+  const double angle = phi.norm();
+  const Eigen::Matrix3d cross = CrossMatrix(phi);
+  if (!(angle > 1e-6)) return Eigen::Matrix3d::Identity() + 0.5 * cross;  // the series' first terms
+  return Eigen::Matrix3d::Identity() + (1.0 - std::cos(angle)) / (angle * angle) * cross +
+         (angle - std::sin(angle)) / (angle * angle * angle) * cross * cross;
+}
+
+Eigen::Matrix3d RotationLeftJacobianInverse(const Eigen::Vector3d& phi) {
+  const double angle = phi.norm();
+  const Eigen::Matrix3d cross = CrossMatrix(phi);
+  // 1/θ² − (1 + cos θ)/(2 θ sin θ); below 1e-3 rad its series 1/12 + θ²/720 (the closed form cancels).
+  const double c = angle < 1e-3 ? 1.0 / 12.0 + angle * angle / 720.0
+                                : 1.0 / (angle * angle) - (1.0 + std::cos(angle)) / (2.0 * angle * std::sin(angle));
+  return Eigen::Matrix3d::Identity() - 0.5 * cross + c * cross * cross;
+}
+
 }  // namespace syn

@@ -42,6 +42,16 @@ void Difference(const ConfigurationShape& shape, const Eigen::VectorXd& q0, cons
 void Interpolate(const ConfigurationShape& shape, const Eigen::VectorXd& q0, const Eigen::VectorXd& q1, double s,
                  Eigen::VectorXd& q);
 
+// Rotation-vector maths for the base's turn (φ = axis × angle, in the ground frame, as Integrate's):
+// CrossMatrix(v) w = v × w.
+Eigen::Matrix3d CrossMatrix(const Eigen::Vector3d& v);
+// SO(3)'s left Jacobian at φ: turning by φ + δ is turning by φ, then by RotationLeftJacobian(φ) δ on top
+// (ground frame).
+Eigen::Matrix3d RotationLeftJacobian(const Eigen::Vector3d& phi);
+// Its inverse: d log(E)/dω for E = R R*ᵀ, φ = log(E), and a ground-frame angular velocity ω of R. It is I
+// only near φ = 0; an unreachable target leaves errors of tens of degrees, where I is wrong.
+Eigen::Matrix3d RotationLeftJacobianInverse(const Eigen::Vector3d& phi);
+
 // Throws std::invalid_argument("`what`: expected N values, got M") unless size == expected.
 void CheckSize(const char* what, Eigen::Index expected, Eigen::Index size);
 

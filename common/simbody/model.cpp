@@ -647,16 +647,11 @@ void MassMatrixFromTree(MassTimesTree& tree, bool free_base, const Eigen::Vector
   composite.resize(count);
   axes.resize(static_cast<size_t>(nu));
   body_of_velocity.resize(static_cast<size_t>(nu));
-  const auto cross_matrix = [](const Eigen::Vector3d& v) {
-    Eigen::Matrix3d m;
-    m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-    return m;
-  };
   for (size_t b = 1; b < count; ++b) {
     const MassTimesTree::Body& body = tree.bodies[b];
     const MassTimesTree::Pose& pose = tree.poses[b];
     const Eigen::Vector3d com = pose.origin + pose.R * body.com;
-    const Eigen::Matrix3d c = cross_matrix(com);
+    const Eigen::Matrix3d c = CrossMatrix(com);
     Matrix6d& inertia = composite[b];
     inertia.topLeftCorner<3, 3>() = pose.R * body.inertia_about_com * pose.R.transpose() - body.mass * c * c;
     inertia.topRightCorner<3, 3>() = body.mass * c;

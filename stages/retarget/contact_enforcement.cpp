@@ -442,13 +442,6 @@ bool SolvePlantedLegs(LegSolver& solver, const Eigen::Isometry3d& base, const Ve
   return on_plants;
 }
 
-// The cross-product matrix: SkewSymmetric(v) w = v × w.
-Eigen::Matrix3d SkewSymmetric(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
 // m²: the legs' least-squares steps in PlantedLegsJacobian are damped by this, so that a leg near full
 // extension does not take back, on paper, a move its joints would have to spin to follow.
 constexpr double kLegRegularisation = 1e-8;
@@ -463,15 +456,8 @@ constexpr double kLegRegularisation = 1e-8;
 void PlantedLegsJacobian(const LegSolver& solver, const Eigen::Isometry3d& base, const Vector6d& correction,
                          const std::vector<bool>& planted, Eigen::MatrixXd& jacobian) {
   jacobian.resize(6 * std::count(planted.begin(), planted.end(), true), 6);
-  // The rotation vector's left Jacobian: how a change of it turns the base on top of its present turn.
-  const Eigen::Vector3d turn = correction.head<3>();
-  const double angle = turn.norm();
-  const Eigen::Matrix3d cross = SkewSymmetric(turn);
-  Eigen::Matrix3d left = Eigen::Matrix3d::Identity() + 0.5 * cross;
-  if (angle > 1e-6) {
-    left = Eigen::Matrix3d::Identity() + (1.0 - std::cos(angle)) / (angle * angle) * cross +
-           (angle - std::sin(angle)) / (angle * angle * angle) * cross * cross;
-  }
+  // How a change of the correction's rotation vector turns the base on top of its present turn.
+  const Eigen::Matrix3d left = RotationLeftJacobian(correction.head<3>());
   const Eigen::Vector3d base_origin = base.translation() + correction.tail<3>();
   const double angle_scale = solver.angleScale();
   Eigen::Matrix<double, 6, 6> rigid;
@@ -482,7 +468,7 @@ void PlantedLegsJacobian(const LegSolver& solver, const Eigen::Isometry3d& base,
     const Eigen::Vector3d lever = solver.reached(f).translation() - base_origin;
     rigid.topLeftCorner<3, 3>() = -angle_scale * left;
     rigid.topRightCorner<3, 3>().setZero();
-    rigid.bottomLeftCorner<3, 3>() = SkewSymmetric(lever) * left;
+    rigid.bottomLeftCorner<3, 3>() = CrossMatrix(lever) * left;
     rigid.bottomRightCorner<3, 3>() = -Eigen::Matrix3d::Identity();
     // What the free joints take back: the least-squares leg step against that motion.
     const LegSolver::ChainJacobian& leg = solver.freeJacobian(f);

@@ -31,18 +31,6 @@ Eigen::Vector3d RotationError(const Eigen::Matrix3d& current, const Eigen::Quate
   return difference.angle() * difference.axis();
 }
 
-// d log(E)/dω for E = R R*ᵀ and a world-frame angular velocity ω of R: the
-// inverse of SO(3)'s left Jacobian at φ = log(E). It is I only near φ = 0;
-// unreachable targets leave errors of tens of degrees, where I is wrong.
-Eigen::Matrix3d LogJacobian(const Eigen::Vector3d& phi) {
-  const double angle = phi.norm();
-  Eigen::Matrix3d cross;
-  cross << 0, -phi.z(), phi.y(), phi.z(), 0, -phi.x(), -phi.y(), phi.x(), 0;
-  // 1/θ² − (1 + cos θ)/(2 θ sin θ); below 1e-3 rad its series 1/12 + θ²/720 (the closed form cancels).
-  const double c = angle < 1e-3 ? 1.0 / 12.0 + angle * angle / 720.0
-                                : 1.0 / (angle * angle) - (1.0 + std::cos(angle)) / (2.0 * angle * std::sin(angle));
-  return Eigen::Matrix3d::Identity() - 0.5 * cross + c * cross * cross;
-}
 
 // The least-squares residual of one frame, evaluated at q = q0 ⊕ δ.
 class TrackingCost final : public ceres::CostFunction {
@@ -124,7 +112,7 @@ class TrackingCost final : public ceres::CostFunction {
       // Frame Jacobian rows: angular velocity (0..2), then linear velocity of the link origin (3..5).
       if (use_position) jacobian.block(row, 0, 3, nu) = task.weight * jacobian_.bottomRows<3>();
       if (use_orientation) {
-        jacobian.block(orientation_row, 0, 3, nu) = task.weight * LogJacobian(rotation_error) * jacobian_.topRows<3>();
+        jacobian.block(orientation_row, 0, 3, nu) = task.weight * RotationLeftJacobianInverse(rotation_error) * jacobian_.topRows<3>();
       }
     }
     // Three per-joint terms, all linear in δ on one coordinate, so they add up to one row each:

@@ -78,5 +78,27 @@ TEST(ConfigurationSpace, CheckedInterpolateNamesTheWrongSize) {
   }
 }
 
+// The rotation-vector Jacobians against Eigen's AngleAxis: turning by φ + δ equals turning by φ and then by
+// RotationLeftJacobian(φ) δ, to first order (central differences); the inverse inverts it; CrossMatrix is ×.
+TEST(ConfigurationSpace, RotationLeftJacobianIsTheTurnOfARotationVectorsChange) {
+  const auto exp = [](const Eigen::Vector3d& phi) {
+    const double angle = phi.norm();
+    return angle > 0 ? Eigen::Matrix3d(Eigen::AngleAxisd(angle, phi / angle)) : Eigen::Matrix3d::Identity();
+  };
+  const Eigen::Vector3d w(0.3, -0.7, 0.2);
+  EXPECT_LT((CrossMatrix(w) * Eigen::Vector3d(1.5, 0.4, -2.0) - w.cross(Eigen::Vector3d(1.5, 0.4, -2.0))).norm(), 1e-15);
+  for (const Eigen::Vector3d& phi : {Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(2e-7, -1e-7, 0.0),
+                                     Eigen::Vector3d(0.4, -0.3, 0.8), Eigen::Vector3d(-1.9, 0.6, 1.2)}) {
+    const Eigen::Matrix3d left = RotationLeftJacobian(phi);
+    constexpr double h = 1e-6;
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d step = h * Eigen::Vector3d::Unit(i);
+      const Eigen::AngleAxisd turn(exp(phi + step) * exp(phi - step).transpose());
+      EXPECT_LT(((turn.axis() * turn.angle()) / (2 * h) - left.col(i)).norm(), 1e-8) << "phi " << phi.transpose() << ", column " << i;
+    }
+    EXPECT_LT((RotationLeftJacobianInverse(phi) * left - Eigen::Matrix3d::Identity()).norm(), 1e-9) << phi.transpose();
+  }
+}
+
 }  // namespace
 }  // namespace syn
