@@ -71,6 +71,9 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
   for (int64_t t = 1; t < frames; ++t) {
     TangentStep(model, &q[static_cast<size_t>((t - 1) * nq)], &q[static_cast<size_t>(t * nq)], step[static_cast<size_t>(t)]);
   }
+  // Per frame, the IK's factor on its smoothing weights (FrameIk::regularisationScale): targets the IK
+  // met exactly are tracked as exactly here. 1 where a frame has no targets.
+  std::vector<double> smoothing_scale(static_cast<size_t>(frames), 1.0);
   BlockBandedSystem system;
   std::vector<Eigen::VectorXd> solution;
   Eigen::VectorXd residual, frame_q(nq);
@@ -103,11 +106,13 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
       if (!targets[t].empty()) {
         ik.linearize(targets[t], frame_q, residual, jacobian);
         AddTracking(system, k, residual, jacobian);
+        smoothing_scale[t] = ik.regularisationScale(ik.taskCost(targets[t], frame_q));
       }
     }
     for (int k = 1; k + 1 < blocks; ++k) {
       const size_t t = static_cast<size_t>(start + k);
-      AddAcceleration(system, k, step[t], step[t + 1], times[t] - times[t - 1], times[t + 1] - times[t], options.smoothing);
+      AddAcceleration(system, k, step[t], step[t + 1], times[t] - times[t - 1], times[t + 1] - times[t],
+                      options.smoothing * smoothing_scale[t]);
     }
     if (!system.solve(solution)) {
       throw std::runtime_error("trajectory refinement: the smoothing problem of frames " + std::to_string(start) +

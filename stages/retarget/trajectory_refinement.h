@@ -5,7 +5,10 @@
 // velocity-space corrections x_t (q_t = q_t^IK ⊕ x_t, quaternion-aware):
 //
 //   Σ_t ‖r_t + J_t x_t‖²                        each frame's IK residual, linearised at its solution
-//   + Σ_t ‖s · a_t · (0.01 s)²‖²                 a_t: the acceleration (second difference of q over time)
+//   + Σ_t ‖s · σ_t · a_t · (0.01 s)²‖²           a_t: the acceleration (second difference of q over time)
+//                                                σ_t: the IK's factor on its own smoothing at frame t
+//                                                (FrameIk::regularisationScale: below 1 where the targets
+//                                                are met exactly, so they stay met)
 //
 // with joints the IK left on a limit held there. Afterwards every frame is
 // clamped to the joint limits and, frame by frame, to the URDF velocity limit
