@@ -20,7 +20,9 @@ struct BvhOptions {
   // Drop frame 0: cgspeed's MotionBuilder- and Daz-friendly CMU conversions
   // put a T-pose / reference frame there that is not part of the take. Frames
   // right after it with every channel exactly zero (a second reference frame,
-  // as in 07_12) are dropped too.
+  // as in 07_12) are dropped too, and so are the frames that ease in from it
+  // (bvh_reader.cpp, EaseInEnd: some copies of CMU blend from the rest pose into
+  // the take over 4-5 frames).
   bool drop_first_frame = false;
 };
 

@@ -102,7 +102,8 @@ int main(int argc, char** argv) {
            else if (!text.empty() && *end == '\0' && value > 0) options.scale = value;
            else throw CLI::ValidationError("--scale", "must be auto or a positive number, not '" + text + "'");
          },
-         "Robot/subject height ratio for landmark displacements, or auto (measured: head to feet)")
+         "Robot/subject height ratio for landmark displacements, or auto (measured: head to feet, in the capture's "
+         "standing calibration frame when it has one, else at the reference frame)")
       ->default_str("auto");
   app.add_option_function<std::string>("--velocity-limit-scale", MapOrNumber("--velocity-limit-scale", "a number >= 0", options.velocity_limit_scale),
                                        "Bound each frame's joint step by this multiple of the URDF velocity limit (0: "

@@ -115,15 +115,10 @@ int64_t FindReferenceFrame(const RetargetInputs& inputs, const LandmarkTrajector
 
 // The capture's calibration frame as one-frame landmarks, when the map has a [calibration_stance] and no
 // --reference-time overrides it; frames = 0 when it is not used.
-LandmarkTrajectories CalibrationLandmarks(const RetargetInputs& inputs, const TrackedTasks& tasks,
-                                          const RetargetOptions& options, std::vector<std::string>& notes) {
+// The capture's calibration frame as one-frame landmarks; frames = 0 when it has none.
+LandmarkTrajectories CalibrationFrameLandmarks(const RetargetInputs& inputs) {
   const MarkerData& capture = inputs.capture;
-  if (!inputs.map.calibration_stance || options.reference_time >= 0) return {};
-  if (capture.calibration_body_pose.empty()) {
-    notes.push_back("the robot map has a calibration stance, but the capture has no calibration frame "
-                    "(syn-ingest --drop-first-frame keeps a BVH's): the first complete frame is the reference");
-    return {};
-  }
+  if (capture.calibration_body_pose.empty()) return {};
   MarkerData calibration;
   calibration.rate_hz = capture.rate_hz;
   calibration.time_s = {0.0};
@@ -132,7 +127,18 @@ LandmarkTrajectories CalibrationLandmarks(const RetargetInputs& inputs, const Tr
   calibration.bodies = capture.bodies;
   calibration.body_parents = capture.body_parents;
   calibration.body_pose = capture.calibration_body_pose;
-  LandmarkTrajectories landmarks = ComputeLandmarks(calibration, inputs.marker_set, inputs.capture_path);
+  return ComputeLandmarks(calibration, inputs.marker_set, inputs.capture_path);
+}
+
+LandmarkTrajectories CalibrationLandmarks(const RetargetInputs& inputs, const TrackedTasks& tasks,
+                                          const RetargetOptions& options, std::vector<std::string>& notes) {
+  if (!inputs.map.calibration_stance || options.reference_time >= 0) return {};
+  LandmarkTrajectories landmarks = CalibrationFrameLandmarks(inputs);
+  if (landmarks.frames == 0) {
+    notes.push_back("the robot map has a calibration stance, but the capture has no calibration frame "
+                    "(syn-ingest --drop-first-frame keeps a BVH's): the first complete frame is the reference");
+    return {};
+  }
   for (int64_t landmark : tasks.landmark) {
     if (!SampleAt(landmarks, 0, landmark).valid) {
       notes.push_back("landmark " + landmarks.names[static_cast<size_t>(landmark)] +
@@ -758,6 +764,11 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   alignment_options.fixed_scale = options.scale;
   alignment_options.per_chain = per_chain;
   alignment_options.heading_from_pelvis = options.heading_from_pelvis && options.reference_time < 0;
+  // Heights from the capture's calibration frame (a BVH's T-pose: standing straight) where the take's first
+  // frame is the reference: a dance's first frame may be a crouch (CMU 94_15: scale 0.668 from it, 0.55
+  // standing), and the G1 then moved 21 % more than the dancer's proportions ask.
+  const LandmarkTrajectories standing = calibrated || options.reference_time >= 0 ? LandmarkTrajectories{} : CalibrationFrameLandmarks(inputs);
+  if (standing.frames > 0) alignment_options.stature = &standing;
   const StanceAlignment alignment = AlignToRobot(stance_landmarks, robot_stance, reference, alignment_options, report.notes);
   report.heading_rad = alignment.heading_rad;
   report.scale = alignment.leg_scale;

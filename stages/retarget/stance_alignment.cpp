@@ -240,13 +240,18 @@ StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const RobotS
     return alignment;
   }
   double legs = options.per_chain ? LegRatio(landmarks, robot, reference) : std::nan("");
+  // A height, standing where the capture has a calibration frame.
+  const auto height_ratio = [&](const std::string& landmark) {
+    const double standing = options.stature ? HeightRatioAboveFeet(*options.stature, robot, landmark, 0) : std::nan("");
+    return std::isfinite(standing) ? standing : HeightRatioAboveFeet(landmarks, robot, landmark, reference);
+  };
   if (options.per_chain && !std::isfinite(legs)) {
-    legs = HeightRatioAboveFeet(landmarks, robot, "pelvis", reference);
+    legs = height_ratio("pelvis");
     if (std::isfinite(legs)) notes.push_back("could not measure the legs (hip, knee and foot landmarks, foot tasks): legs "
                                              "scaled by the pelvis height above the feet");
   }
   if (!std::isfinite(legs)) {
-    legs = HeightRatioAboveFeet(landmarks, robot, "head", reference);
+    legs = height_ratio("head");
     if (!std::isfinite(legs)) notes.push_back("could not measure heights (head and feet tasks needed): scale 1");
     else if (options.per_chain) notes.push_back("no pelvis height above the feet: every landmark scaled by the head's height");
   }

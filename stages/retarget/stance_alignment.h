@@ -69,6 +69,9 @@ struct AlignmentOptions {
   double fixed_scale = 0.0;          // > 0: one scale for every landmark
   bool per_chain = false;            // legs and arms by their own lengths (above)
   bool heading_from_pelvis = false;  // RetargetOptions::heading_from_pelvis, when no --reference-time is given
+  // Non-null: the subject's heights (head or pelvis above the feet) are measured at its frame 0, a standing
+  // calibration frame, instead of at the reference frame; the reference frame where it lacks a landmark.
+  const LandmarkTrajectories* stature = nullptr;
 };
 
 [[nodiscard]] StanceAlignment AlignToRobot(const LandmarkTrajectories& landmarks, const RobotStance& robot,

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "common/error.h"
 #include "common/file_bytes.h"
@@ -126,6 +128,56 @@ TEST(BvhReader, DropFirstFrameAlsoDropsAllZeroReferenceFramesAfterIt) {
   EXPECT_LT((Position(dropped, 0, 1) - Eigen::Vector3d(0, 10, 0)).norm(), 1e-12);  // the 90° frame
   EXPECT_LT((Position(dropped, 1, 1) - Eigen::Vector3d(10, 0, 0)).norm(), 1e-12);  // the trailing zero frame stays
   EXPECT_EQ(ParseBvh(three, "three.bvh", {}).frame_count(), 4);
+}
+
+// kTwoBones at 120 Hz with `arm_z` as the arm's Z rotation, frame by frame.
+std::string ArmTake(const std::vector<double>& arm_z) {
+  std::string text = std::string(kTwoBones).substr(0, std::string(kTwoBones).find("Frames:"));
+  text += "Frames: " + std::to_string(arm_z.size()) + "\nFrame Time: 0.00833333\n";
+  for (const double z : arm_z) text += "0 0 0 0 0 0 " + std::to_string(z) + " 0 0\n";
+  return text;
+}
+
+// Some conversions ease in from the rest frame over a few frames (CMU's lawrennd, Przestr and papagina
+// copies): those frames go with it. The arm sweeps 0 -> 59.5° in five frames (220-735 °/s RMS over the six
+// rotation channels), then moves 0.1° a frame: the take starts at 59.5°.
+TEST(BvhReader, DropFirstFrameAlsoDropsTheEaseInFromIt) {
+  std::vector<double> arm = {0, 15, 30, 45, 55, 59.5};
+  for (int k = 0; k < 20; ++k) arm.push_back(60 + 0.1 * k);
+  BvhOptions options;
+  options.drop_first_frame = true;
+  const MarkerData eased = ParseBvh(ArmTake(arm), "eased.bvh", options);
+  ASSERT_EQ(eased.frame_count(), 21);
+  const double first_angle = std::atan2(Position(eased, 0, 2).y() - Position(eased, 0, 1).y(),
+                                        Position(eased, 0, 2).x() - Position(eased, 0, 1).x());
+  EXPECT_NEAR(first_angle * 180 / M_PI, 59.5, 1e-9);
+  EXPECT_EQ(eased.metadata.at("bvh").at("dropped_ease_in_frames"), 4);
+  // The calibration stance is still the rest frame.
+  ASSERT_EQ(eased.calibration_body_pose.size(), eased.bodies.size() * 7);
+  EXPECT_NEAR(eased.calibration_body_pose[2 * 7 + 1], 0.0, 1e-12);  // the arm's end straight along x
+  // A take that starts at once keeps its frame 1 (cgspeed's T-pose, then the take), and so does one whose
+  // fast start is a single step.
+  std::vector<double> at_once = {0, 60};
+  for (int k = 0; k < 20; ++k) at_once.push_back(60 + 0.1 * k);
+  EXPECT_EQ(ParseBvh(ArmTake(at_once), "at_once.bvh", options).frame_count(), 21);
+  std::vector<double> one_fast_step = {0, 40, 60};
+  for (int k = 0; k < 20; ++k) one_fast_step.push_back(60 + 0.1 * k);
+  EXPECT_EQ(ParseBvh(ArmTake(one_fast_step), "one_step.bvh", options).frame_count(), 22);
+  // Without drop_first_frame nothing is dropped.
+  EXPECT_EQ(ParseBvh(ArmTake(arm), "eased.bvh", {}).frame_count(), 26);
+}
+
+// The real files: a lawrennd-family copy eases in over frames 1-4, cgspeed's starts at frame 1.
+TEST(BvhReader, RealCmuEaseInsAreDroppedAndCgspeedTakesKept) {
+  SYN_REQUIRE_SHARED("cmu_bvh");
+  BvhOptions options;
+  options.drop_first_frame = true;
+  const MarkerData eased = ReadBvh(testing::SharedPath("cmu_bvh/12/12_02.bvh"), options);
+  EXPECT_EQ(eased.metadata.at("bvh").at("dropped_ease_in_frames"), 3);
+  EXPECT_EQ(eased.frame_count(), 674 - 4);
+  const MarkerData cgspeed = ReadBvh(testing::SharedPath("cmu_bvh/02/02_01.bvh"), options);
+  EXPECT_EQ(cgspeed.metadata.at("bvh").at("dropped_ease_in_frames"), 0);
+  EXPECT_EQ(cgspeed.frame_count(), 343);
 }
 
 // text with the first `from` replaced by `to` (built by concatenation: GCC 12 warns falsely on

@@ -465,10 +465,15 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoG1) {
   // swing feet at the source's clearance (05_11 57 -> 5 mm, 08_07's skating 0.861 -> 0.844), G1's hips kept
   // off their mirrored solution by the map's [joint_ranges] (60_02 20.5 -> 0.7 mm, p95 2.9 mm), and the pelvis
   // moved frame by frame where a planted leg still could not hold its plant (94_07 41 -> 24.6 mm: borderline).
+  // Since the ingest drops the ease-in some BVH copies blend from the T-pose into the take with, and the scale
+  // is the subject's standing height in that T-pose (2026-11-26), skating is met on 30 (the dances 94_07:
+  // 0.558 against 0.499, 94_15: 0.438 against 0.365; both met before, the source's own figure moving
+  // most: 94_15's 0.456 -> 0.365) and drift on 31 (94_07, p95 91.8 mm), while the P1 error fell (mean over the
+  // 32 trials 36.7 -> 30.3 mm; 12_01-03 and 10_04, no longer crouched, 45 -> 20 mm).
   // Guarded a trial below today's counts, so that a different machine's rounding on a borderline trial does
   // not fail it, and the stance drift over all phases: median within the bound, p95 under 10 mm.
   EXPECT_GE(result.floor_met, 31);
-  EXPECT_GE(result.skating_met, 31);
+  EXPECT_GE(result.skating_met, 29);
   EXPECT_GE(result.drift_met, 31);
   EXPECT_LE(Quantile(result.drift, 0.5), 0.010);
   EXPECT_LE(Quantile(result.drift, 0.95), 0.010);

@@ -183,3 +183,45 @@ TEST_F(Proportions, FeetAreMeasuredFromTheirMedianOffsetToThePelvis) {
 
 }  // namespace
 }  // namespace syn
+
+namespace syn {
+namespace {
+
+// --scale auto measures the subject standing: in the capture's calibration frame (the T-pose syn-ingest
+// --drop-first-frame keeps) when it has one. The same capture with that T-pose put first in the take and
+// retargeted from it (--reference-time 0, heights at the reference frame) gives the same scale; from the
+// take's first frame, which on the bundled salsa (CMU 60_10) is mid-dance, the ratio differs.
+TEST_F(Proportions, TheScaleIsTheStandingCalibrationFramesHeight) {
+  for (const char* file : {"datasets/demo/02_01.bvh", "datasets/demo/60_10.bvh"}) {
+    SCOPED_TRACE(file);
+    IngestOptions ingest;
+    ingest.drop_first_frame = true;
+    const MarkerData capture = IngestCapture(testing::SourcePath(file), ingest, nullptr);
+    ASSERT_FALSE(capture.calibration_body_pose.empty());
+    const auto write = [&](const MarkerData& data, const std::string& name) {
+      const std::string path = (dir_ / name).string();
+      IntermediateWriter writer(path, {kMarkersSchema, kMarkersSchemaVersion, "test", {}, nlohmann::json::array()});
+      WriteMarkerData(writer, data);
+      writer.commit();
+      return path;
+    };
+    MarkerData standing_first = capture;
+    std::copy(capture.calibration_body_pose.begin(), capture.calibration_body_pose.end(), standing_first.body_pose.begin());
+    standing_first.calibration_body_pose.clear();
+    RetargetOptions options = Options(false);
+    options.smoothing = 0;
+    options.enforce_contacts = false;
+    RetargetSummary from_calibration, from_standing_frame, from_take_frame;
+    (void)RetargetFile(write(capture, "capture.markers.h5"), options, &from_calibration);
+    options.reference_time = 0;
+    (void)RetargetFile(write(standing_first, "standing.markers.h5"), options, &from_standing_frame);
+    (void)RetargetFile(write(capture, "capture.markers.h5"), options, &from_take_frame);
+    EXPECT_NEAR(from_calibration.scale, from_standing_frame.scale, 1e-12);
+    EXPECT_GT(std::abs(from_take_frame.scale - from_calibration.scale), 0.005);
+    std::cout << file << ": scale " << from_calibration.scale << " standing, " << from_take_frame.scale
+              << " from the take's first frame\n";
+  }
+}
+
+}  // namespace
+}  // namespace syn
