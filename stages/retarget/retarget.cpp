@@ -113,8 +113,6 @@ int64_t FindReferenceFrame(const RetargetInputs& inputs, const LandmarkTrajector
   return reference;
 }
 
-// The capture's calibration frame as one-frame landmarks, when the map has a [calibration_stance] and no
-// --reference-time overrides it; frames = 0 when it is not used.
 // The capture's calibration frame as one-frame landmarks; frames = 0 when it has none.
 LandmarkTrajectories CalibrationFrameLandmarks(const RetargetInputs& inputs) {
   const MarkerData& capture = inputs.capture;
@@ -130,6 +128,8 @@ LandmarkTrajectories CalibrationFrameLandmarks(const RetargetInputs& inputs) {
   return ComputeLandmarks(calibration, inputs.marker_set, inputs.capture_path);
 }
 
+// The capture's calibration frame as one-frame landmarks, when the map has a [calibration_stance] and no
+// --reference-time overrides it; frames = 0 when it is not used.
 LandmarkTrajectories CalibrationLandmarks(const RetargetInputs& inputs, const TrackedTasks& tasks,
                                           const RetargetOptions& options, std::vector<std::string>& notes) {
   if (!inputs.map.calibration_stance || options.reference_time >= 0) return {};
@@ -765,8 +765,8 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   alignment_options.per_chain = per_chain;
   alignment_options.heading_from_pelvis = options.heading_from_pelvis && options.reference_time < 0;
   // Heights from the capture's calibration frame (a BVH's T-pose: standing straight) where the take's first
-  // frame is the reference: a dance's first frame may be a crouch (CMU 94_15: scale 0.668 from it, 0.55
-  // standing), and the G1 then moved 21 % more than the dancer's proportions ask.
+  // frame is the reference: a dance's first frame may be a crouch (CMU 94_15: scale 0.668 from it, 0.537
+  // standing), and the G1 then moved 24 % more than the dancer's proportions ask.
   const LandmarkTrajectories standing = calibrated || options.reference_time >= 0 ? LandmarkTrajectories{} : CalibrationFrameLandmarks(inputs);
   if (standing.frames > 0) alignment_options.stature = &standing;
   const StanceAlignment alignment = AlignToRobot(stance_landmarks, robot_stance, reference, alignment_options, report.notes);
