@@ -365,6 +365,7 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
                           {"frames_in_file", frames_read},
                           {"frame_time_s", frame_time},
                           {"dropped_first_frame", first >= 1},
+                          {"dropped_lead_frames", first},
                           {"dropped_ease_in_frames", first - after_reference},
                           {"rest_height_units", RestHeight(joints)},
                           {"channel_layout", layout},

@@ -116,6 +116,14 @@ std::string IngestSummary::BriefReport() const {
   out << format << ": " << frames << " frames at " << rate_hz << " Hz, " << markers << " markers, " << bodies
       << " bodies, " << analog_channels << " analog channels; " << filled << " gaps filled, " << missing
       << " marker samples missing; up axis " << static_cast<char>(std::toupper(up_axis)) << " (" << up_axis_reason << ")";
+  if (dropped_lead_frames == 1) out << "; frame 0 dropped (the calibration frame, kept aside)";
+  if (dropped_lead_frames > 1) {
+    const int64_t zero_frames = dropped_lead_frames - 1 - dropped_ease_in_frames;
+    out << "; the first " << dropped_lead_frames << " frames dropped (the calibration frame, kept aside";
+    if (zero_frames > 0) out << "; " << zero_frames << " all-zero reference frame" << (zero_frames > 1 ? "s" : "");
+    if (dropped_ease_in_frames > 0) out << "; " << dropped_ease_in_frames << " easing in from it";
+    out << ")";
+  }
   return out.str();
 }
 
@@ -154,6 +162,11 @@ MarkerData IngestCapture(const std::string& path, const IngestOptions& options, 
     summary->up_axis = data.metadata["ingest"]["original_up_axis"].get<std::string>()[0];
     summary->up_axis_reason = data.metadata["ingest"]["up_axis_reason"].get<std::string>();
     summary->gaps = std::move(gaps);
+    const auto bvh = data.metadata.find("bvh");
+    if (bvh != data.metadata.end() && bvh->contains("dropped_lead_frames")) {
+      summary->dropped_lead_frames = bvh->at("dropped_lead_frames").get<int64_t>();
+      summary->dropped_ease_in_frames = bvh->at("dropped_ease_in_frames").get<int64_t>();
+    }
   }
   return data;
 }

@@ -50,6 +50,10 @@ struct IngestSummary {
   char up_axis = 'z';             // the file's axis that became +Z
   std::string up_axis_reason;     // why (data cues, the convention, or --up-axis)
   std::vector<MarkerGapReport> gaps;  // per marker
+  // BVH --drop-first-frame: the frames taken off the take's start, and how many of them eased in from the
+  // calibration frame (bvh_reader.h).
+  int64_t dropped_lead_frames = 0;
+  int64_t dropped_ease_in_frames = 0;
 
   std::string BriefReport() const;
 };

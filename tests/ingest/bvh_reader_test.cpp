@@ -1,4 +1,5 @@
 #include "stages/ingest/bvh_reader.h"
+#include "stages/ingest/ingest.h"
 #include "stages/ingest/text_fields.h"
 
 #include <gtest/gtest.h>
@@ -178,6 +179,25 @@ TEST(BvhReader, RealCmuEaseInsAreDroppedAndCgspeedTakesKept) {
   const MarkerData cgspeed = ReadBvh(testing::SharedPath("cmu_bvh/02/02_01.bvh"), options);
   EXPECT_EQ(cgspeed.metadata.at("bvh").at("dropped_ease_in_frames"), 0);
   EXPECT_EQ(cgspeed.frame_count(), 343);
+}
+
+// syn-ingest's summary line says what the start lost.
+TEST(BvhReader, TheIngestSummarySaysWhichLeadFramesWereDropped) {
+  SYN_REQUIRE_SHARED("cmu_bvh");
+  IngestOptions options;
+  options.drop_first_frame = true;
+  IngestSummary eased, cgspeed, kept;
+  (void)IngestCapture(testing::SharedPath("cmu_bvh/12/12_02.bvh"), options, &eased);
+  (void)IngestCapture(testing::SharedPath("cmu_bvh/02/02_01.bvh"), options, &cgspeed);
+  (void)IngestCapture(testing::SharedPath("cmu_bvh/02/02_01.bvh"), {}, &kept);
+  EXPECT_EQ(eased.dropped_lead_frames, 4);
+  EXPECT_EQ(eased.dropped_ease_in_frames, 3);
+  EXPECT_NE(eased.BriefReport().find("the first 4 frames dropped (the calibration frame, kept aside; 3 easing in from it)"),
+            std::string::npos) << eased.BriefReport();
+  EXPECT_NE(cgspeed.BriefReport().find("frame 0 dropped (the calibration frame, kept aside)"), std::string::npos)
+      << cgspeed.BriefReport();
+  EXPECT_EQ(kept.dropped_lead_frames, 0);
+  EXPECT_EQ(kept.BriefReport().find("dropped"), std::string::npos) << kept.BriefReport();
 }
 
 // text with the first `from` replaced by `to` (built by concatenation: GCC 12 warns falsely on
