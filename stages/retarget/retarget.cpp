@@ -767,7 +767,8 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   // Heights from the capture's calibration frame (a BVH's T-pose: standing straight) where the take's first
   // frame is the reference: a dance's first frame may be a crouch (CMU 94_15: scale 0.668 from it, 0.537
   // standing), and the G1 then moved 24 % more than the dancer's proportions ask.
-  const LandmarkTrajectories standing = calibrated || options.reference_time >= 0 ? LandmarkTrajectories{} : CalibrationFrameLandmarks(inputs);
+  const bool measure_standing = !calibrated && options.reference_time < 0 && options.scale <= 0;
+  const LandmarkTrajectories standing = measure_standing ? CalibrationFrameLandmarks(inputs) : LandmarkTrajectories{};
   if (standing.frames > 0) alignment_options.stature = &standing;
   const StanceAlignment alignment = AlignToRobot(stance_landmarks, robot_stance, reference, alignment_options, report.notes);
   report.heading_rad = alignment.heading_rad;

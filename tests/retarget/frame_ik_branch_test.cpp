@@ -5,43 +5,19 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <algorithm>
 #include <string>
 #include <vector>
 
 #include "common/model.h"
 #include "stages/retarget/branch_joints.h"
 #include "stages/retarget/frame_ik.h"
-#include "tests/support/demo_motion.h"
-#include "tests/support/shared_data.h"
+#include "tests/retarget/g1_leg_tasks.h"
 
 namespace syn {
 namespace {
 
-class FrameIkBranchTest : public ::testing::Test {
+class FrameIkBranchTest : public ::testing::Test, protected testing::G1LegTasks {
  protected:
-  FrameIkBranchTest() : model_(Model::Load(testing::SourcePath(testing::kG1Urdf))), workspace_(model_) {
-    for (const char* link : {"pelvis", "left_ankle_roll_link", "right_ankle_roll_link"}) {
-      tasks_.push_back(IkTask{model_.findLinkIndex(link), TaskType::kPose, 1.0});
-    }
-  }
-
-  int Coordinate(const std::string& name) const {
-    const auto& names = model_.coordinateNames();
-    return static_cast<int>(std::find(names.begin(), names.end(), name) - names.begin());
-  }
-
-  // The tasks' link poses at `goal`.
-  std::vector<IkTarget> TargetsAt(const Eigen::VectorXd& goal) {
-    workspace_.setQ(goal);
-    std::vector<IkTarget> targets;
-    for (const IkTask& task : tasks_) {
-      const Eigen::Isometry3d pose = workspace_.findLinkPose(task.link);
-      targets.push_back(IkTarget{true, true, pose.translation(), Eigen::Quaterniond(pose.linear())});
-    }
-    return targets;
-  }
-
   // A standing pose with both knees at `knee`, hips and ankles pitched so the feet stay flat.
   Eigen::VectorXd Crouch(double knee) const {
     Eigen::VectorXd q = model_.defaultQ();
@@ -64,10 +40,6 @@ class FrameIkBranchTest : public ::testing::Test {
     options.function_tolerance = 1e-14;
     return options;
   }
-
-  Model model_;
-  Workspace workspace_;
-  std::vector<IkTask> tasks_;
 };
 
 TEST_F(FrameIkBranchTest, KneesBentInTheTargetsAreFoundFromTheMirroredSide) {

@@ -12,8 +12,7 @@
 
 #include "common/model.h"
 #include "stages/retarget/frame_ik.h"
-#include "tests/support/demo_motion.h"
-#include "tests/support/shared_data.h"
+#include "tests/retarget/g1_leg_tasks.h"
 
 namespace syn {
 namespace {
@@ -21,19 +20,8 @@ namespace {
 constexpr double kRate = 30.0;  // Hz, the G1 motion CSVs' rate
 constexpr double kDeg = 180.0 / M_PI;
 
-class FrameIkReachableTest : public ::testing::Test {
+class FrameIkReachableTest : public ::testing::Test, protected testing::G1LegTasks {
  protected:
-  FrameIkReachableTest() : model_(Model::Load(testing::SourcePath(testing::kG1Urdf))), workspace_(model_) {
-    for (const char* link : {"pelvis", "left_ankle_roll_link", "right_ankle_roll_link"}) {
-      tasks_.push_back(IkTask{model_.findLinkIndex(link), TaskType::kPose, 1.0});
-    }
-  }
-
-  int Coordinate(const std::string& name) const {
-    const auto& names = model_.coordinateNames();
-    return static_cast<int>(std::find(names.begin(), names.end(), name) - names.begin());
-  }
-
   // Frame t of the trajectory: the pelvis walking forward and bobbing; each knee between 0.05 and 0.65 rad
   // (the legs half a cycle apart, 1.1 cycles a second), hips and ankles pitched so the soles stay level, hip
   // rolls swaying.
@@ -51,16 +39,6 @@ class FrameIkReachableTest : public ::testing::Test {
       q[Coordinate(s + "_hip_roll_joint")] = 0.05 * std::sin(2 * M_PI * 0.55 * time);
     }
     return q;
-  }
-
-  std::vector<IkTarget> TargetsAt(const Eigen::VectorXd& goal) {
-    workspace_.setQ(goal);
-    std::vector<IkTarget> targets;
-    for (const IkTask& task : tasks_) {
-      const Eigen::Isometry3d pose = workspace_.findLinkPose(task.link);
-      targets.push_back(IkTarget{true, true, pose.translation(), Eigen::Quaterniond(pose.linear())});
-    }
-    return targets;
   }
 
   // Solves 4 s frame by frame, warm-started from the previous answer within the URDF velocity limits, as
@@ -84,10 +62,6 @@ class FrameIkReachableTest : public ::testing::Test {
     }
     return {worst_knee, worst_position};
   }
-
-  Model model_;
-  Workspace workspace_;
-  std::vector<IkTask> tasks_;
 };
 
 TEST_F(FrameIkReachableTest, ExactTargetsAreMetExactlyThroughAStraighteningKnee) {
