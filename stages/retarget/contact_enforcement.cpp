@@ -338,9 +338,13 @@ std::vector<double> SmoothUpperEnvelope(const std::vector<double>& need, int64_t
 // scaled capture and then skimmed the floor at 3.5 m/s for 20 frames, raised onto it. So an unplanted foot
 // is raised until its lowest sole point is as high as the source foot's own (with the source's orientation,
 // on the same level), by a smooth envelope of what each frame needs over ±2 `half_width` frames.
+// `clearance[f][t]`: that height (0 in contact or without a source orientation), for the leg pass to hold
+// where the leg cannot pitch the foot as the free pose asks.
 void KeepSourceClearance(const std::vector<SoleGeometry>& soles, const FootContacts& contacts,
                          const std::vector<std::vector<Eigen::Isometry3d>>& source_feet, double level, int64_t half_width,
-                         std::vector<std::vector<Eigen::Isometry3d>>& free) {
+                         std::vector<std::vector<Eigen::Isometry3d>>& free, std::vector<std::vector<double>>& clearance) {
+  clearance.assign(free.size(), std::vector<double>());
+  for (size_t f = 0; f < free.size(); ++f) clearance[f].assign(free[f].size(), 0.0);
   if (source_feet.size() != free.size()) return;
   for (size_t f = 0; f < free.size(); ++f) {
     std::vector<double> need(free[f].size(), 0.0);
@@ -348,8 +352,8 @@ void KeepSourceClearance(const std::vector<SoleGeometry>& soles, const FootConta
       const Eigen::Isometry3d& source = source_feet[f][t];
       if (!source.translation().allFinite() || !std::isfinite(source.linear()(0, 0))) continue;
       if (static_cast<int>(f) < contacts.feet && contacts.at(static_cast<int64_t>(t), static_cast<int>(f))) continue;
-      const double clearance = std::max(0.0, LowestPoint(soles[f], source) - level);
-      need[t] = std::max(0.0, clearance - LowestPoint(soles[f], free[f][t]));
+      clearance[f][t] = std::max(0.0, LowestPoint(soles[f], source) - level);
+      need[t] = std::max(0.0, clearance[f][t] - LowestPoint(soles[f], free[f][t]));
     }
     const std::vector<double> raise = SmoothUpperEnvelope(need, half_width);
     for (size_t t = 0; t < free[f].size(); ++t) free[f][t].translation().z() += raise[t];
@@ -391,6 +395,20 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;  // a base correction: rotation ve
 Correction AsCorrection(const Vector6d& correction) { return {correction.tail<3>(), correction.head<3>()}; }
 
 constexpr double kClearanceSmoothing = 0.025;  // s: half the window over which a swing foot's raise is smoothed
+constexpr double kClearanceTolerance = 1e-3;   // m a reached swing sole may hang under the source's
+// How fast a swing foot's clearance raise may grow from its plant, so that the raise starts and ends on
+// the plant instead of jumping there: at most kClearanceRiseAcceleration (m/s², about 2 g) up to
+// kClearanceRiseSpeed (m/s; a walking foot leaves the floor at 0.5-1 m/s). Bounded by speed alone, a raise
+// landed CMU 02_01's first step 8.8 mm above its plant one frame before it, the knee stepping 16 rad/s.
+constexpr double kClearanceRiseSpeed = 1.0;
+constexpr double kClearanceRiseAcceleration = 20.0;
+
+// The most a clearance raise may be `elapsed` seconds from a plant.
+double ClearanceRiseCap(double elapsed) {
+  constexpr double kRamp = kClearanceRiseSpeed / kClearanceRiseAcceleration;  // s to reach full speed
+  if (elapsed < kRamp) return 0.5 * kClearanceRiseAcceleration * elapsed * elapsed;
+  return kClearanceRiseSpeed * (elapsed - 0.5 * kRamp);
+}
 constexpr double kPlantPositionTolerance = 1e-3;  // m: a planted foot this close to its plant needs no base move
 constexpr double kPlantAngleTolerance = 0.5 * M_PI / 180.0;
 // rad: the most the pelvis turns for a plant. Where a plant is out of reach however the pelvis turns (CMU
@@ -702,6 +720,81 @@ int PlantWhereTouchedDown(const std::vector<SoleGeometry>& soles, const FootCont
   return moved;
 }
 
+
+// The free poses' clearance (KeepSourceClearance) assumed the legs pitch the swing feet as asked. Where an
+// ankle limit leaves a foot pitched further (HRP-4C's ankle pitch ends at 0.5 rad while its knee folds 1.2 rad
+// in swing, lowered pelvis and all: CMU 12_03's feet hung toes down 3-7 cm under the scaled source's and
+// dragged over the floor at walking pace), the foot must rise by what its reached sole lacks. Raised frame by
+// frame in the final pass, the velocity-bounded legs sawed up and down 15 mm a frame, so the legs are first
+// solved for every unplanted frame where they will stand (lowering and pelvis moves applied, speed
+// unbounded), what each reached sole lacks of its target's own height (at most the source's clearance) is
+// smoothed like the lowering into a raise of the target, and the raise may grow no faster than
+// ClearanceRiseCap from the foot's last and next planted frames, so a foot leaves and meets its plant
+// smoothly. Returns the frames raised by more than kClearanceTolerance.
+int64_t RaiseSwingFeetToClearance(LegSolver& solver, const std::vector<LegChain>& chains, const BaseMover& mover,
+                                  const std::vector<SoleGeometry>& soles, const FootContacts& contacts,
+                                  const std::vector<std::vector<double>>& clearance, const std::vector<double>& lowering,
+                                  const std::vector<Vector6d>& base_correction, int64_t vertical_coordinate,
+                                  const std::vector<double>& q, const std::vector<double>& time_s, int64_t half_width,
+                                  std::vector<std::vector<Eigen::Isometry3d>>& target, std::vector<std::vector<bool>>& changed) {
+  const size_t foot_count = chains.size();
+  const int64_t frames = static_cast<int64_t>(time_s.size());
+  const int64_t nq = static_cast<int64_t>(q.size()) / std::max<int64_t>(frames, 1);
+  const auto planted_at = [&](size_t f, int64_t t) { return static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f)); };
+  std::vector<std::vector<double>> lacking(foot_count, std::vector<double>(static_cast<size_t>(frames), 0.0));
+  std::vector<Eigen::Isometry3d> frame_targets(foot_count);
+  std::vector<bool> active(foot_count);
+  Eigen::VectorXd frame_q(nq), previous(nq);
+  int64_t previous_frame = -2;
+  bool any_lacking = false;
+  for (int64_t t = 0; t < frames; ++t) {
+    bool any = false;
+    for (size_t f = 0; f < foot_count; ++f) {
+      active[f] = !planted_at(f, t) && clearance[f][static_cast<size_t>(t)] > 0.0;
+      frame_targets[f] = target[f][static_cast<size_t>(t)];
+      any = any || active[f];
+    }
+    if (!any) continue;
+    frame_q = Eigen::Map<const Eigen::VectorXd>(&q[static_cast<size_t>(t * nq)], nq);
+    if (vertical_coordinate >= 0) frame_q[vertical_coordinate] -= lowering[static_cast<size_t>(t)];
+    if (base_correction[static_cast<size_t>(t)].squaredNorm() > 0) mover.apply(base_correction[static_cast<size_t>(t)], frame_q);
+    ContinueLegs(chains, previous, t - 1 == previous_frame, false, frame_q);
+    solver.solve(frame_targets, active, frame_q, 0.0);
+    previous = frame_q, previous_frame = t;
+    for (size_t f = 0; f < foot_count; ++f) {
+      if (!active[f]) continue;
+      const double wanted = std::min(clearance[f][static_cast<size_t>(t)], LowestPoint(soles[f], frame_targets[f]));
+      const double short_by = wanted - LowestPoint(soles[f], solver.reached(f));
+      if (short_by > kClearanceTolerance) lacking[f][static_cast<size_t>(t)] = short_by, any_lacking = true;
+    }
+  }
+  if (!any_lacking) return 0;
+  std::vector<bool> raised(static_cast<size_t>(frames), false);
+  for (size_t f = 0; f < foot_count; ++f) {
+    const std::vector<double> raise = SmoothUpperEnvelope(lacking[f], half_width);
+    // Time since the foot's last planted frame and until its next one (infinite without).
+    std::vector<double> since(static_cast<size_t>(frames), std::numeric_limits<double>::infinity()), until = since;
+    for (int64_t t = 0, last = -1; t < frames; ++t) {
+      if (planted_at(f, t)) last = t;
+      if (last >= 0) since[static_cast<size_t>(t)] = time_s[static_cast<size_t>(t)] - time_s[static_cast<size_t>(last)];
+    }
+    for (int64_t t = frames - 1, next = -1; t >= 0; --t) {
+      if (planted_at(f, t)) next = t;
+      if (next >= 0) until[static_cast<size_t>(t)] = time_s[static_cast<size_t>(next)] - time_s[static_cast<size_t>(t)];
+    }
+    for (int64_t t = 0; t < frames; ++t) {
+      const size_t i = static_cast<size_t>(t);
+      if (planted_at(f, t)) continue;
+      const double lift = std::min(raise[i], ClearanceRiseCap(std::min(since[i], until[i])));
+      if (!(lift > 1e-9)) continue;
+      target[f][i].translation().z() += lift;
+      changed[f][i] = true;
+      if (lift > kClearanceTolerance) raised[i] = true;
+    }
+  }
+  return std::count(raised.begin(), raised.end(), true);
+}
+
 }  // namespace
 
 bool ContactEnforcementOptions::IsValid(std::string* error) const {
@@ -758,7 +851,9 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   double level = 0.0;
   std::vector<std::vector<Eigen::Isometry3d>> free = FreePoses(soles, contacts, tracked, source_feet, level);
   const double dt = frames > 1 ? (time_s.back() - time_s.front()) / static_cast<double>(frames - 1) : 1.0;
-  KeepSourceClearance(soles, contacts, source_feet, level, static_cast<int64_t>(std::lround(kClearanceSmoothing / std::max(dt, 1e-9))), free);
+  std::vector<std::vector<double>> clearance;
+  KeepSourceClearance(soles, contacts, source_feet, level, static_cast<int64_t>(std::lround(kClearanceSmoothing / std::max(dt, 1e-9))), free,
+                      clearance);
   for (size_t f = 0; f < foot_count; ++f) {
     FootTargets(soles[f], free[f], contacts.phases, static_cast<int>(f), time_s, options.blend, options.max_roll,
                 target[f], corrected[f]);
@@ -819,6 +914,11 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       options.move_base_for_plants
           ? BaseCorrections(model, mover, tree, solver, chains, contacts, target, lowering, vertical_coordinate, base_half_width, q)
           : std::vector<Vector6d>(static_cast<size_t>(frames), Vector6d::Zero());
+
+  out.clearance_frames = RaiseSwingFeetToClearance(solver, chains, mover, soles, contacts, clearance, lowering, base_correction,
+                                                   vertical_coordinate, q, time_s,
+                                                   static_cast<int64_t>(std::lround(kClearanceSmoothing / std::max(dt, 1e-9))),
+                                                   target, changed);
 
   int64_t iterations = 0;
   std::vector<bool> retry(foot_count), planted(foot_count, false), held(foot_count, false);

@@ -43,6 +43,12 @@
 //    least amount with which every planted leg reaches its plant, smoothed in
 //    time; the upper body moves with it. A free base, or a virtual base chain
 //    of x, y, z slides and x, y, z turns (HRP-4C's), moves so (base_mover.h).
+// 3c. Swing clearance. The free poses' clearance (step 0) assumed the legs
+//    pitch the swing feet as asked; where an ankle limit pitches a foot further
+//    on the lowered, moved robot (its toes hanging under the source's), the legs
+//    are solved for every unplanted frame first, and the foot rises by what its
+//    sole lacks of its target's height (at most the source's clearance),
+//    smoothed, growing from the foot's plants at most 20 m/s² up to 1 m/s.
 // 4. Legs. Each frame whose foot targets differ from where the lowered robot
 //    puts its feet is solved exactly for those feet by the leg chains
 //    (leg_chain.h), every other joint unchanged, each leg joint within its
@@ -123,6 +129,7 @@ struct ContactEnforcementReport {
   double mean_iterations = 0.0;         // leg-solver iterations per solved frame
   int64_t rolled_foot_frames = 0;       // foot-frames rolled about a sole edge (a joint limit pitched the foot)
   int64_t lifted_frames = 0;            // frames with a foot lifted onto its lowest sole point (its leg at a limit)
+  int64_t clearance_frames = 0;         // frames with a swing foot raised for the clearance its leg's pitch took (step 3c)
   int64_t moved_plants = 0;             // contact phases planted where the foot touched down, off the plan
   int64_t speed_base_moved_frames = 0;  // frames whose pelvis moved so that planted legs hold within their speed
   int64_t raised_frames = 0;            // of those, frames whose base rose too (the leg could not lift the foot)

@@ -687,6 +687,7 @@ std::string RetargetSummary::BriefReport() const {
           << enforcement.worst_angle_error * 180 / M_PI << " deg, " << enforcement.rolled_foot_frames
           << " foot-frames rolled onto a sole edge, " << enforcement.lifted_frames
           << " frames with a foot lifted onto its lowest point (" << enforcement.raised_frames << " with the base), "
+          << enforcement.clearance_frames << " frames with a swing foot raised to the source's clearance, "
           << enforcement.overspeed_joint_frames << " leg joint-frames over their URDF velocity limit";
       if (enforcement.worst_speed_frame >= 0) {
         out << " (worst " << enforcement.worst_speed_ratio << "x, " << enforcement.worst_speed_joint << " at "

@@ -76,6 +76,12 @@ struct ContactCheck {
   double deepest = 0;               // m below z = 0
   std::vector<double> drift;        // per source contact phase, m
   double robot_skating = 0, source_skating = 0;
+  // Unplanted foot-frames whose lowest sole point hangs more than 1 cm under the source's (levelled, and
+  // never under the floor), as a share of all unplanted foot-frames; and the largest frame-to-frame second
+  // difference of a foot's lowest sole point (m), which a foot raised frame by frame against its velocity
+  // bound saws up.
+  double swing_under_source = 0;
+  double largest_lowest_second_difference = 0;
 };
 
 // A foot's sole points at `pose`: their centre and the lowest one's height.
@@ -162,6 +168,20 @@ ContactCheck CheckContacts(const MotionData& motion, const Robot& robot, const t
   };
   check.robot_skating = ratio(robot_feet);
   check.source_skating = ratio(source_feet);
+  int64_t unplanted = 0, under = 0;
+  for (size_t f = 0; f < feet && motion.contact_feet.size() == feet; ++f) {
+    for (int64_t t = 0; t < frames; ++t) {
+      const size_t i = static_cast<size_t>(t);
+      if (t >= 2) {
+        const double second = robot_feet[f][i].lowest_z - 2 * robot_feet[f][i - 1].lowest_z + robot_feet[f][i - 2].lowest_z;
+        check.largest_lowest_second_difference = std::max(check.largest_lowest_second_difference, std::abs(second));
+      }
+      if (motion.contact[i * feet + f] != 0) continue;
+      ++unplanted;
+      under += robot_feet[f][i].lowest_z < std::max(0.0, source_feet[f][i].lowest_z) - 0.01;
+    }
+  }
+  check.swing_under_source = unplanted ? static_cast<double>(under) / static_cast<double>(unplanted) : 0.0;
   return check;
 }
 
@@ -453,6 +473,42 @@ TEST(RetargetContacts, HipsStayOffTheirMirroredSolution) {
   EXPECT_LE(ranged.check.robot_skating, ranged.check.source_skating + 0.05);
 }
 
+// Swing feet clear the floor as the scaled source's do where the robot's ankle cannot pitch them as the
+// source's (contact_enforcement.h, step 3c). HRP-4C's ankle pitch ends at 0.5 rad: on CMU 12_03 its swing
+// feet hung toes down, and before the clearance pass 47 % of its unplanted foot-frames were more than 1 cm
+// under the source's, the toes dragging over the floor at walking pace (skating 0.728 against the source's
+// 0.543); after it, 12 % and 0.541. G1 on 08_07: 27 % -> 2 % (skating 0.745 -> 0.583, source 0.831). The
+// raise is smooth: the feet's lowest points move about as jerkily as before it (largest frame-to-frame
+// second difference 16.0 -> 17.8 mm on HRP-4C's 12_03, 15.9 -> 17.0 on G1's 08_07; raised frame by frame
+// in the final pass instead, 36).
+TEST(RetargetContacts, SwingFeetClearTheFloorWhereTheAnklesCannotPitchThemAsTheSource) {
+#ifdef SYN_SANITIZED_BUILD
+  GTEST_SKIP() << "real-data retargets run in the Release test run, not under the sanitizers";
+#endif
+  SYN_REQUIRE_SHARED("cmu_bvh/12/12_03.bvh");
+  SYN_REQUIRE_SHARED("cmu_bvh/08/08_07.bvh");
+  SYN_REQUIRE_SHARED("robots/humanoid_synergies/HRP4c_optitrack_model.urdf");
+  const ScratchDir scratch("clearance");
+  struct Case {
+    Robot robot;
+    std::string trial;
+    bool free_base;
+    double under_at_most;
+  };
+  for (const Case& c : {Case{Hrp4c(), "12/12_03.bvh", false, 0.2}, Case{G1(), "08/08_07.bvh", true, 0.05}}) {
+    const std::string markers = CmuMarkers(c.trial, scratch.file(c.robot.name + ".markers.h5"));
+    const testing::IndependentFk fk(c.robot.urdf);
+    const MotionData motion = RetargetFile(markers, CmuOptions(c.robot), nullptr);
+    const ContactCheck check = CheckContacts(motion, c.robot, fk, c.free_base);
+    std::fprintf(stderr, "%s onto %s: %.3f of unplanted foot-frames > 1 cm under the source's; skating %.3f (source %.3f); "
+                 "lowest sole point's largest second difference %.1f mm\n", c.trial.c_str(), c.robot.name.c_str(),
+                 check.swing_under_source, check.robot_skating, check.source_skating, 1000 * check.largest_lowest_second_difference);
+    EXPECT_LE(check.swing_under_source, c.under_at_most) << c.robot.name;
+    EXPECT_LE(check.robot_skating, check.source_skating + 0.05) << c.robot.name;
+    EXPECT_LE(check.largest_lowest_second_difference, 0.025) << c.robot.name;
+  }
+}
+
 TEST(RetargetContacts, EveryCmuWalkAndDanceOntoG1) {
 #ifdef SYN_SANITIZED_BUILD
   GTEST_SKIP() << "the real-data contact sweep runs in the Release test run, not under the sanitizers";
@@ -470,10 +526,12 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoG1) {
   // 0.558 against 0.499, 94_15: 0.438 against 0.365; both met before, the source's own figure moving
   // most: 94_15's 0.456 -> 0.365) and drift on 31 (94_07, p95 91.8 mm), while the P1 error fell (mean over the
   // 32 trials 36.7 -> 30.3 mm; 12_01-03 and 10_04, no longer crouched, 45 -> 20 mm).
+  // Since swing feet keep the source's clearance where the ankles cannot pitch them as the source
+  // (2026-11-27), skating is met on all 32 (94_07 0.558 -> 0.517, 94_15 0.438 -> 0.370; 08_07 0.745 -> 0.583).
   // Guarded a trial below today's counts, so that a different machine's rounding on a borderline trial does
   // not fail it, and the stance drift over all phases: median within the bound, p95 under 10 mm.
   EXPECT_GE(result.floor_met, 31);
-  EXPECT_GE(result.skating_met, 29);
+  EXPECT_GE(result.skating_met, 31);
   EXPECT_GE(result.drift_met, 31);
   EXPECT_LE(Quantile(result.drift, 0.5), 0.010);
   EXPECT_LE(Quantile(result.drift, 0.95), 0.010);
@@ -493,10 +551,13 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
   // 12.4/82 (drift 4 trials, skating 20, floor 32). With its map's velocity_limit_scale of 4 and max_roll of
   // 0.2 (hrp4c.toml), 2026-11-26: 2.1/12.5 mm, drift 30 trials, skating 26 (walks whose swing feet the scaled
   // source lifts at the same pace the robot drags over the floor: 05_01, 08_07, 12_01-03), floor 32.
-  // Guarded with a margin against regressions.
+  // Swing feet raised to the source's clearance where the ankle (pitch within 0.5 rad) leaves them toes down
+  // (2026-11-27): skating 25 -> 30 (05_01 0.692 -> 0.560, 07_04 0.659 -> 0.483, 08_07 0.805 -> 0.586, 12_03
+  // 0.728 -> 0.541, 60_12 0.594 -> 0.508; still over: 10_04 0.712 against 0.595, 12_01 0.785 against 0.731),
+  // drift 31 (05_02, median 13.5 mm), floor 32. Guarded with a margin against regressions.
   EXPECT_EQ(result.floor_met, 32);
   EXPECT_GE(result.drift_met, 28);
-  EXPECT_GE(result.skating_met, 22);
+  EXPECT_GE(result.skating_met, 28);
   EXPECT_LE(Quantile(result.drift, 0.5), 0.005);
   EXPECT_LE(Quantile(result.drift, 0.95), 0.020);
 }
