@@ -140,7 +140,7 @@ constexpr double kRollWindow = 0.1;
 // Every frame's target for foot `foot`: its free pose, corrected towards its phases' planted poses and raised
 // out of the floor. `corrected[t]` is set where either happened.
 void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>& free, const std::vector<ContactPhase>& phases,
-                 int foot, const std::vector<double>& time_s, double blend, double max_roll,
+                 int foot, const std::vector<double>& time_s, double blend, double horizontal_blend, double max_roll,
                  std::vector<Eigen::Isometry3d>& target, std::vector<bool>& corrected) {
   const size_t frames = free.size();
   std::vector<Correction> correction(frames);
@@ -183,26 +183,39 @@ void FootTargets(const SoleGeometry& sole, const std::vector<Eigen::Isometry3d>&
       correction[static_cast<size_t>(t)] = Between(plant, source);
     }
   }
-  // Between phases: each neighbouring phase's boundary correction, eased out over `blend` or the gap.
+  // Between phases: each neighbouring phase's boundary correction, eased out over `blend` or the gap: its
+  // height and tilt over `blend`, its horizontal shift and turn over `horizontal_blend`. A planted foot sits
+  // where the source's stood on average, and a CMU stance foot slides 10-30 mm, so the foot leaves its plant
+  // up to half that off the source's path; caught up over 0.1 s, the foot moved 0.1-0.2 m/s faster than the
+  // source's where the source's was still slow (HRP-4C's 10_04 and 12_01 skated 0.05-0.12 over the scaled
+  // source's), while a slower return of the height kept swing feet low (its 02_01 0.359 -> 0.528 with both
+  // over 0.3 s).
   for (size_t k = 0; k <= own.size() && !own.empty(); ++k) {
     const ContactPhase* before = k > 0 ? own[k - 1] : nullptr;
     const ContactPhase* after = k < own.size() ? own[k] : nullptr;
     const int64_t first = before ? before->end : 0;
     const int64_t last = after ? after->begin : static_cast<int64_t>(frames);  // exclusive
-    double span = blend;
-    if (before && after) span = std::min(blend, time_s[static_cast<size_t>(after->begin)] - time_s[static_cast<size_t>(before->end - 1)]);
+    double span = blend, hspan = horizontal_blend;
+    if (before && after) {
+      const double gap = time_s[static_cast<size_t>(after->begin)] - time_s[static_cast<size_t>(before->end - 1)];
+      span = std::min(blend, gap), hspan = std::min(horizontal_blend, gap);
+    }
+    const auto add = [](Correction& c, const Correction& edge, double w, double wh) {
+      c.translation.head<2>() += wh * edge.translation.head<2>();
+      c.translation.z() += w * edge.translation.z();
+      c.rotation.head<2>() += w * edge.rotation.head<2>();
+      c.rotation.z() += wh * edge.rotation.z();
+    };
     for (int64_t t = first; t < last; ++t) {
       Correction& c = correction[static_cast<size_t>(t)];
       const double now = time_s[static_cast<size_t>(t)];
       if (before) {
-        const double w = Ease((now - time_s[static_cast<size_t>(before->end - 1)]) / span);
-        const Correction& edge = correction[static_cast<size_t>(before->end - 1)];
-        c.translation += w * edge.translation, c.rotation += w * edge.rotation;
+        const double since = now - time_s[static_cast<size_t>(before->end - 1)];
+        add(c, correction[static_cast<size_t>(before->end - 1)], Ease(since / span), Ease(since / hspan));
       }
       if (after) {
-        const double w = Ease((time_s[static_cast<size_t>(after->begin)] - now) / span);
-        const Correction& edge = correction[static_cast<size_t>(after->begin)];
-        c.translation += w * edge.translation, c.rotation += w * edge.rotation;
+        const double until = time_s[static_cast<size_t>(after->begin)] - now;
+        add(c, correction[static_cast<size_t>(after->begin)], Ease(until / span), Ease(until / hspan));
       }
     }
   }
@@ -803,6 +816,7 @@ bool ContactEnforcementOptions::IsValid(std::string* error) const {
     return false;
   };
   if (!(blend >= 0)) return fail("--contact-blend must be >= 0 s");
+  if (!(horizontal_blend >= 0)) return fail("--contact-blend-horizontal must be >= 0 s");
   if (!(max_roll >= 0 && max_roll <= M_PI / 2)) return fail("--max-roll must be in [0, pi/2] rad");
   if (!(stance_knee >= 0 && stance_knee < 1.5)) return fail("--stance-knee must be in [0, 1.5) rad");
   if (!(max_lowering >= 0 && max_lowering < 1)) return fail("--max-lowering must be in [0, 1) (a fraction of the leg)");
@@ -855,7 +869,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   KeepSourceClearance(soles, contacts, source_feet, level, static_cast<int64_t>(std::lround(kClearanceSmoothing / std::max(dt, 1e-9))), free,
                       clearance);
   for (size_t f = 0; f < foot_count; ++f) {
-    FootTargets(soles[f], free[f], contacts.phases, static_cast<int>(f), time_s, options.blend, options.max_roll,
+    FootTargets(soles[f], free[f], contacts.phases, static_cast<int>(f), time_s, options.blend, options.horizontal_blend, options.max_roll,
                 target[f], corrected[f]);
     changed[f].resize(static_cast<size_t>(frames));
     for (int64_t t = 0; t < frames; ++t) {

@@ -26,7 +26,8 @@
 //    map's max_roll unless --max-roll says).
 // 2. Blending. Outside a phase the correction (planted pose ⊖ tracked pose, as a
 //    translation and a rotation vector) fades with a cubic ease over `blend`
-//    seconds, or over the gap to the next phase of that foot when it is shorter,
+//    seconds (its horizontal shift and turn about z over `horizontal_blend`),
+//    or over the gap to the next phase of that foot when it is shorter,
 //    so the foot's path stays continuous at touchdown and lift-off. Any frame's
 //    foot target whose lowest sole point would be below z = 0 is raised onto it.
 // 3. Reach. Each corrected leg is first solved with its knee (branch joints,
@@ -88,7 +89,8 @@
 namespace syn {
 
 struct ContactEnforcementOptions {
-  double blend = 0.1;               // s
+  double blend = 0.1;               // s: a planted correction's height and tilt fade over this outside its phase
+  double horizontal_blend = 0.3;    // s: ... and its horizontal shift and turn over this (step 2)
   double stance_knee = 0.15;        // rad a corrected leg's knee keeps (human stance knees bend 5-20°)
   double max_lowering = 0.2;        // of the straight leg
   double lowering_smoothing = 0.2;  // s: 0.1 s bobbed the pelvis every step (bundled walk on the human model 4.0 W/kg; 3.7 at 0.2)

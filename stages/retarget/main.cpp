@@ -140,7 +140,11 @@ int main(int argc, char** argv) {
                  "point below the floor, the base lowered where a planted leg cannot reach (false: measured only)")
       ->capture_default_str();
   app.add_option("--contact-blend", options.enforcement.blend,
-                 "Outside a contact phase the planted correction fades over this time (s)")
+                 "Outside a contact phase the planted correction's height and tilt fade over this time (s)")
+      ->capture_default_str();
+  app.add_option("--contact-blend-horizontal", options.enforcement.horizontal_blend,
+                 "... and its horizontal shift and turn over this time (s): a foot leaving or meeting its plant "
+                 "returns to the source's path no faster than the source's own foot moves there")
       ->capture_default_str();
   app.add_option("--stance-knee", options.enforcement.stance_knee,
                  "A corrected leg keeps its knee bent at least this much (rad); where the foot is then out of reach, "

@@ -477,7 +477,8 @@ TEST(RetargetContacts, HipsStayOffTheirMirroredSolution) {
 // source's (contact_enforcement.h, step 3c). HRP-4C's ankle pitch ends at 0.5 rad: on CMU 12_03 its swing
 // feet hung toes down, and before the clearance pass 47 % of its unplanted foot-frames were more than 1 cm
 // under the source's, the toes dragging over the floor at walking pace (skating 0.728 against the source's
-// 0.543); after it, 12 % and 0.541. G1 on 08_07: 27 % -> 2 % (skating 0.745 -> 0.583, source 0.831). The
+// 0.543); after it, 12 % and 0.541 (16 % and 0.488 with the slower horizontal blend since). G1 on 08_07:
+// 27 % -> 2 % (4 % now; skating 0.745 -> 0.583, 0.613 now, source 0.831). The
 // raise is smooth: the feet's lowest points move about as jerkily as before it (largest frame-to-frame
 // second difference 16.0 -> 17.8 mm on HRP-4C's 12_03, 15.9 -> 17.0 on G1's 08_07; raised frame by frame
 // in the final pass instead, 36).
@@ -554,10 +555,12 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
   // Swing feet raised to the source's clearance where the ankle (pitch within 0.5 rad) leaves them toes down
   // (2026-11-27): skating 25 -> 30 (05_01 0.692 -> 0.560, 07_04 0.659 -> 0.483, 08_07 0.805 -> 0.586, 12_03
   // 0.728 -> 0.541, 60_12 0.594 -> 0.508; still over: 10_04 0.712 against 0.595, 12_01 0.785 against 0.731),
-  // drift 31 (05_02, median 13.5 mm), floor 32. Guarded with a margin against regressions.
+  // drift 31 (05_02, median 13.5 mm), floor 32. The plants' horizontal correction fading over 0.3 s
+  // instead of 0.1 (2026-11-27): skating 32 (10_04 0.645 against 0.595: borderline; 12_01 0.733 against
+  // 0.731). Guarded with a margin against regressions.
   EXPECT_EQ(result.floor_met, 32);
   EXPECT_GE(result.drift_met, 28);
-  EXPECT_GE(result.skating_met, 28);
+  EXPECT_GE(result.skating_met, 30);
   EXPECT_LE(Quantile(result.drift, 0.5), 0.005);
   EXPECT_LE(Quantile(result.drift, 0.95), 0.020);
 }
