@@ -703,8 +703,8 @@ bool HoldPlantsWithinSpeed(const BaseMover& mover, TreeKinematics& tree, LegSolv
 
 // Touchdown: the plant is where the foot touched down. Where the leg's speed limits kept the foot from the
 // planned plant at a phase's first frame `t` (HRP-4C's legs, 1.9-3 rad/s, cannot swing at a person's pace),
-// the plant moves to the reached pose laid flat, for the whole phase, and the move eases out over `blend`
-// after it; the foot then stays where it landed instead of sliding on to the plan. Returns the plants moved.
+// the plant moves in the floor's plane to where the foot landed, for the whole phase, and the move eases
+// out over `blend` after it; the foot then stays where it landed instead of sliding on to the plan. Returns the plants moved.
 int PlantWhereTouchedDown(const std::vector<SoleGeometry>& soles, const FootContacts& contacts,
                           const std::vector<std::vector<int>>& phase_begins, const std::vector<double>& time_s, double blend,
                           const LegSolver& solver, const std::vector<bool>& active, int64_t t,
@@ -717,10 +717,19 @@ int PlantWhereTouchedDown(const std::vector<SoleGeometry>& soles, const FootCont
     const Eigen::Isometry3d& reached = solver.reached(f);
     const Eigen::Isometry3d& plan = target[f][static_cast<size_t>(t)];
     if (OnPlant(plan, reached)) continue;
-    const Eigen::Vector3d centre = reached * soles[f].centre;
-    const Correction shift = Between(PlantedPose(soles[f], centre.x(), centre.y(), Yaw(reached.linear(), soles[f])), plan);
+    // The plan moves in the floor's plane, its sole centre onto the reached one's and its heading to the
+    // reached heading; each frame keeps the plan's own pitch (a heel strike's roll, then flat). Laid flat at
+    // the touchdown pose instead, a plan rolled at its first frame had that roll undone on every later,
+    // already flat, frame: HRP-4C's feet tilted the other way and slid 13.5 mm (CMU 05_02).
+    const Eigen::Vector3d from = plan * soles[f].centre, to = reached * soles[f].centre;
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(Yaw(reached.linear(), soles[f]) - Yaw(plan.linear(), soles[f]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    Eigen::Isometry3d move = Eigen::Isometry3d::Identity();
+    move.linear() = turn;
+    move.translation() = Eigen::Vector3d(to.x(), to.y(), 0.0) - turn * Eigen::Vector3d(from.x(), from.y(), 0.0);
     const ContactPhase& phase = contacts.phases[static_cast<size_t>(p)];
-    for (int64_t s = t; s < phase.end; ++s) target[f][static_cast<size_t>(s)] = Apply(shift, target[f][static_cast<size_t>(s)]);
+    for (int64_t s = t; s < phase.end; ++s) target[f][static_cast<size_t>(s)] = move * target[f][static_cast<size_t>(s)];
+    const Correction shift = Between(target[f][static_cast<size_t>(phase.end - 1)], move.inverse() * target[f][static_cast<size_t>(phase.end - 1)]);
     const double end_time = time_s[static_cast<size_t>(phase.end - 1)];
     for (int64_t s = phase.end; s < frames && time_s[static_cast<size_t>(s)] - end_time < blend; ++s) {
       if (contacts.at(s, static_cast<int>(f))) break;

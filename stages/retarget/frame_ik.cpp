@@ -13,14 +13,16 @@
 namespace syn {
 namespace {
 
-// After a bent retry that lost to the straight knee, the next kRetryRest frames whose targets are out of
-// reach (the previous task cost over reachable_task_cost: a scaled person, not a robot's own motion) keep the
-// straight answer without trying: a walk whose legs the G1 cannot stretch to (CMU 08_07) retried in 283 of
-// its 302 frames and lost nearly every time, the retry half its IK time (whole stage 1,012 -> 1,515 frames/s;
-// over the 32 CMU walks and dances onto G1 2,101 -> 2,487, P1 errors within 1.3 mm, the same contacts
-// but for the deep squats of 94_07 and 94_15). Targets that can be met retry every frame: there a knee held
-// straight for two frames on the wrong side cost the same-robot round trip up to 65°.
+// After a bent retry that lost to the straight knee, the next kRetryRest frames whose targets are well out
+// of reach (the previous task cost over kRetryRestCost × reachable_task_cost, a 32 mm residual: a scaled
+// person, not a robot's own motion) keep the straight answer without trying: a walk whose legs the G1
+// cannot stretch to (CMU 08_07) retried in 283 of its 302 frames and lost nearly every time, the retry half
+// its IK time (whole stage 1,012 -> 1,515 frames/s; over the 32 CMU walks and dances onto G1 2,101 ->
+// 2,487, P1 errors within 1.3 mm, the same contacts but for the deep squats of 94_07 and 94_15). Targets
+// nearer reach retry every frame: resting from just over reachable_task_cost, a same-robot round trip's
+// knee stayed straight two frames after a transient, 70° off (38° retrying).
 constexpr int kRetryRest = 2;
+constexpr double kRetryRestCost = 10.0;
 
 // FrameIk::solve's choice between a straight knee and the bent retry: with no previous frame the bent answer
 // is kept unless the straight one costs 1 % less; mid-take the bent one must cost 10 % less, as a switch of
@@ -404,7 +406,7 @@ FrameIkSummary FrameIk::solveOnBranch(const std::vector<IkTarget>& targets, Eige
     on_floor = on_floor || (impl.branch[static_cast<size_t>(u + impl.q_offset)] && q[u + impl.q_offset] <= impl.lower[u] + 1e-6);
   }
   if (!on_floor) return first;
-  if (had_last_step && impl.retry_rest > 0 && impl.last_task_cost > impl.options.reachable_task_cost) {
+  if (had_last_step && impl.retry_rest > 0 && impl.last_task_cost > kRetryRestCost * impl.options.reachable_task_cost) {
     --impl.retry_rest;
     return first;
   }

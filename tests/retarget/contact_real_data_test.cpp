@@ -477,7 +477,7 @@ TEST(RetargetContacts, HipsStayOffTheirMirroredSolution) {
 // source's (contact_enforcement.h, step 3c). HRP-4C's ankle pitch ends at 0.5 rad: on CMU 12_03 its swing
 // feet hung toes down, and before the clearance pass 47 % of its unplanted foot-frames were more than 1 cm
 // under the source's, the toes dragging over the floor at walking pace (skating 0.728 against the source's
-// 0.543); after it, 12 % and 0.541 (16 % and 0.488 with the slower horizontal blend since). G1 on 08_07:
+// 0.543); after it, 12 % and 0.541 (12 % and 0.498 with the later blend and plant changes). G1 on 08_07:
 // 27 % -> 2 % (4 % now; skating 0.745 -> 0.583, 0.613 now, source 0.831). The
 // raise is smooth: the feet's lowest points move about as jerkily as before it (largest frame-to-frame
 // second difference 16.0 -> 17.8 mm on HRP-4C's 12_03, 15.9 -> 17.0 on G1's 08_07; raised frame by frame
@@ -529,6 +529,8 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoG1) {
   // 32 trials 36.7 -> 30.3 mm; 12_01-03 and 10_04, no longer crouched, 45 -> 20 mm).
   // Since swing feet keep the source's clearance where the ankles cannot pitch them as the source
   // (2026-11-27), skating is met on all 32 (94_07 0.558 -> 0.517, 94_15 0.438 -> 0.370; 08_07 0.745 -> 0.583).
+  // The same plant fix took the stance drift over all 430 phases from 1.5/5.0 to 1.5/3.4 mm (94_07 still
+  // 52.9 mm p95, its deep squat past G1's ankle).
   // Guarded a trial below today's counts, so that a different machine's rounding on a borderline trial does
   // not fail it, and the stance drift over all phases: median within the bound, p95 under 10 mm.
   EXPECT_GE(result.floor_met, 31);
@@ -557,9 +559,12 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
   // 0.728 -> 0.541, 60_12 0.594 -> 0.508; still over: 10_04 0.712 against 0.595, 12_01 0.785 against 0.731),
   // drift 31 (05_02, median 13.5 mm), floor 32. The plants' horizontal correction fading over 0.3 s
   // instead of 0.1 (2026-11-27): skating 32 (10_04 0.645 against 0.595: borderline; 12_01 0.733 against
-  // 0.731). Guarded with a margin against regressions.
+  // 0.731). A plant moved to where its foot touched down keeping the plan's own pitch instead of the
+  // touchdown's tilt (2026-11-27): drift 32 (05_02 13.5 -> 7.0 mm median), all phases 1.9/8.9 -> 1.8/4.7 mm,
+  // skating 32 (10_04 0.619 against 0.595). Every trial within every bound. Guarded with a margin against
+  // regressions.
   EXPECT_EQ(result.floor_met, 32);
-  EXPECT_GE(result.drift_met, 28);
+  EXPECT_GE(result.drift_met, 31);
   EXPECT_GE(result.skating_met, 30);
   EXPECT_LE(Quantile(result.drift, 0.5), 0.005);
   EXPECT_LE(Quantile(result.drift, 0.95), 0.020);
