@@ -50,6 +50,8 @@ struct FootContacts {
   std::vector<ContactPhase> phases;  // sorted by foot, then begin
 
   bool at(int64_t frame, int foot) const { return contact[static_cast<size_t>(frame * feet + foot)] != 0; }
+  // The same for a robot foot index, which may lie past the detected feet (a foot with no landmark): unplanted.
+  bool planted(int64_t frame, size_t foot) const { return foot < static_cast<size_t>(feet) && at(frame, static_cast<int>(foot)); }
   int64_t framesInContact(int foot) const;
 };
 

@@ -247,7 +247,7 @@ std::vector<std::vector<Eigen::Isometry3d>> FreePoses(const std::vector<SoleGeom
       const Eigen::Isometry3d& source = source_feet[f][t];
       if (!source.translation().allFinite()) continue;
       free[f][t].translation() = source.translation();
-      if (static_cast<int>(f) < contacts.feet && contacts.at(static_cast<int64_t>(t), static_cast<int>(f))) {
+      if (contacts.planted(static_cast<int64_t>(t), f)) {
         planted_lowest.push_back(LowestPoint(soles[f], free[f][t]));
       }
     }
@@ -364,7 +364,7 @@ void KeepSourceClearance(const std::vector<SoleGeometry>& soles, const FootConta
     for (size_t t = 0; t < free[f].size() && t < source_feet[f].size(); ++t) {
       const Eigen::Isometry3d& source = source_feet[f][t];
       if (!source.translation().allFinite() || !std::isfinite(source.linear()(0, 0))) continue;
-      if (static_cast<int>(f) < contacts.feet && contacts.at(static_cast<int64_t>(t), static_cast<int>(f))) continue;
+      if (contacts.planted(static_cast<int64_t>(t), f)) continue;
       clearance[f][t] = std::max(0.0, LowestPoint(soles[f], source) - level);
       need[t] = std::max(0.0, clearance[f][t] - LowestPoint(soles[f], free[f][t]));
     }
@@ -576,7 +576,7 @@ std::vector<Vector6d> BaseCorrections(const Model& model, const BaseMover& mover
       out.setZero();
       int rows = 0;
       for (size_t f = 0; f < foot_count; ++f) {
-        planted[f] = static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f));
+        planted[f] = contacts.planted(t, f);
         frame_targets[f] = target[f][static_cast<size_t>(t)];
         rows += planted[f] ? 6 : 0;
       }
@@ -742,7 +742,6 @@ int PlantWhereTouchedDown(const std::vector<SoleGeometry>& soles, const FootCont
   return moved;
 }
 
-
 // The free poses' clearance (KeepSourceClearance) assumed the legs pitch the swing feet as asked. Where an
 // ankle limit leaves a foot pitched further (HRP-4C's ankle pitch ends at 0.5 rad while its knee folds 1.2 rad
 // in swing, lowered pelvis and all: CMU 12_03's feet hung toes down 3-7 cm under the scaled source's and
@@ -756,13 +755,11 @@ int PlantWhereTouchedDown(const std::vector<SoleGeometry>& soles, const FootCont
 int64_t RaiseSwingFeetToClearance(LegSolver& solver, const std::vector<LegChain>& chains, const BaseMover& mover,
                                   const std::vector<SoleGeometry>& soles, const FootContacts& contacts,
                                   const std::vector<std::vector<double>>& clearance, const std::vector<double>& lowering,
-                                  const std::vector<Vector6d>& base_correction, int64_t vertical_coordinate,
+                                  const std::vector<Vector6d>& base_correction, int64_t vertical_coordinate, int64_t nq,
                                   const std::vector<double>& q, const std::vector<double>& time_s, int64_t half_width,
                                   std::vector<std::vector<Eigen::Isometry3d>>& target, std::vector<std::vector<bool>>& changed) {
   const size_t foot_count = chains.size();
   const int64_t frames = static_cast<int64_t>(time_s.size());
-  const int64_t nq = static_cast<int64_t>(q.size()) / std::max<int64_t>(frames, 1);
-  const auto planted_at = [&](size_t f, int64_t t) { return static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f)); };
   std::vector<std::vector<double>> lacking(foot_count, std::vector<double>(static_cast<size_t>(frames), 0.0));
   std::vector<Eigen::Isometry3d> frame_targets(foot_count);
   std::vector<bool> active(foot_count);
@@ -772,7 +769,7 @@ int64_t RaiseSwingFeetToClearance(LegSolver& solver, const std::vector<LegChain>
   for (int64_t t = 0; t < frames; ++t) {
     bool any = false;
     for (size_t f = 0; f < foot_count; ++f) {
-      active[f] = !planted_at(f, t) && clearance[f][static_cast<size_t>(t)] > 0.0;
+      active[f] = !contacts.planted(t, f) && clearance[f][static_cast<size_t>(t)] > 0.0;
       frame_targets[f] = target[f][static_cast<size_t>(t)];
       any = any || active[f];
     }
@@ -797,16 +794,16 @@ int64_t RaiseSwingFeetToClearance(LegSolver& solver, const std::vector<LegChain>
     // Time since the foot's last planted frame and until its next one (infinite without).
     std::vector<double> since(static_cast<size_t>(frames), std::numeric_limits<double>::infinity()), until = since;
     for (int64_t t = 0, last = -1; t < frames; ++t) {
-      if (planted_at(f, t)) last = t;
+      if (contacts.planted(t, f)) last = t;
       if (last >= 0) since[static_cast<size_t>(t)] = time_s[static_cast<size_t>(t)] - time_s[static_cast<size_t>(last)];
     }
     for (int64_t t = frames - 1, next = -1; t >= 0; --t) {
-      if (planted_at(f, t)) next = t;
+      if (contacts.planted(t, f)) next = t;
       if (next >= 0) until[static_cast<size_t>(t)] = time_s[static_cast<size_t>(next)] - time_s[static_cast<size_t>(t)];
     }
     for (int64_t t = 0; t < frames; ++t) {
       const size_t i = static_cast<size_t>(t);
-      if (planted_at(f, t)) continue;
+      if (contacts.planted(t, f)) continue;
       const double lift = std::min(raise[i], ClearanceRiseCap(std::min(since[i], until[i])));
       if (!(lift > 1e-9)) continue;
       target[f][i].translation().z() += lift;
@@ -874,9 +871,9 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   double level = 0.0;
   std::vector<std::vector<Eigen::Isometry3d>> free = FreePoses(soles, contacts, tracked, source_feet, level);
   const double dt = frames > 1 ? (time_s.back() - time_s.front()) / static_cast<double>(frames - 1) : 1.0;
+  const int64_t clearance_half_width = static_cast<int64_t>(std::lround(kClearanceSmoothing / std::max(dt, 1e-9)));
   std::vector<std::vector<double>> clearance;
-  KeepSourceClearance(soles, contacts, source_feet, level, static_cast<int64_t>(std::lround(kClearanceSmoothing / std::max(dt, 1e-9))), free,
-                      clearance);
+  KeepSourceClearance(soles, contacts, source_feet, level, clearance_half_width, free, clearance);
   for (size_t f = 0; f < foot_count; ++f) {
     FootTargets(soles[f], free[f], contacts.phases, static_cast<int>(f), time_s, options.blend, options.horizontal_blend, options.max_roll,
                 target[f], corrected[f]);
@@ -939,9 +936,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
           : std::vector<Vector6d>(static_cast<size_t>(frames), Vector6d::Zero());
 
   out.clearance_frames = RaiseSwingFeetToClearance(solver, chains, mover, soles, contacts, clearance, lowering, base_correction,
-                                                   vertical_coordinate, q, time_s,
-                                                   static_cast<int64_t>(std::lround(kClearanceSmoothing / std::max(dt, 1e-9))),
-                                                   target, changed);
+                                                   vertical_coordinate, nq, q, time_s, clearance_half_width, target, changed);
 
   int64_t iterations = 0;
   std::vector<bool> retry(foot_count), planted(foot_count, false), held(foot_count, false);
@@ -980,12 +975,12 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     for (size_t f = 0; f < foot_count; ++f) {
       frame_targets[f] = target[f][static_cast<size_t>(t)];
       active[f] = drop > 1e-9 || base_moved || changed[f][static_cast<size_t>(t)];
-      planted[f] = options.contacts_above_speed && static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f));
+      planted[f] = options.contacts_above_speed && contacts.planted(t, f);
     }
     LegSolveResult solved = solver.solve(frame_targets, active, frame_q, 0.0, &before, step_time, &planted);
     solved.iterations += BendStraightKnees(chains, solver, frame_targets, active, frame_q, before, step_time, planted, retry);
     if (options.move_base_for_plants && mover.canMove()) {
-      for (size_t f = 0; f < foot_count; ++f) held[f] = active[f] && static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f));
+      for (size_t f = 0; f < foot_count; ++f) held[f] = active[f] && contacts.planted(t, f);
       Vector6d step;
       if (HoldPlantsWithinSpeed(mover, tree, solver, chains, frame_targets, held, before, step_time, planted, speed_move,
                                 hold_scratch, frame_q, step)) {
@@ -1017,7 +1012,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
         // A planted foot rolls onto the edge it pitches towards; any other foot is lifted by its depth (a
         // swing foot's pitch is the source's, and rolling it turned one unreachable pose into two the leg
         // then alternated between, 0.4 rad a frame on CMU 05_02).
-        if (through_floor && static_cast<int>(f) < contacts.feet && contacts.at(t, static_cast<int>(f))) {
+        if (through_floor && contacts.planted(t, f)) {
           frame_targets[f] = RollAboutSoleEdge(soles[f], frame_targets[f], reached), ++out.rolled_foot_frames;
         } else if (through_floor) {
           frame_targets[f].translation().z() -= lowest;
