@@ -78,7 +78,11 @@ FootContacts DetectContacts(const std::vector<std::vector<Eigen::Vector3d>>& foo
       int64_t end = t;
       while (end < frames && result.at(end, f)) ++end;
       const double duration = time_s[static_cast<size_t>(end - 1)] - time_s[static_cast<size_t>(t)];
-      if (duration + 1e-9 < options.min_duration) {
+      // A phase cut by the recording's first or last frame lasted longer than what was captured of it:
+      // kept whatever its length (CMU 02_01 starts with 9 frames of a stance, and with it dropped the
+      // robot's foot hung 2 cm above the floor there).
+      const bool cut_by_recording = t == 0 || end == frames;
+      if (!cut_by_recording && duration + 1e-9 < options.min_duration) {
         for (int64_t k = t; k < end; ++k) result.contact[static_cast<size_t>(k * result.feet + f)] = 0;
       } else {
         result.phases.push_back({f, t, end});

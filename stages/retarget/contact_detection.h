@@ -7,7 +7,8 @@
 // their floor anywhere) — and slow — horizontal speed, over a centred window,
 // under `speed`. Hysteresis: a contact begins below (height, speed) and ends
 // only above (height, speed) × `release`, so noise at the threshold does not
-// toggle it; phases shorter than `min_duration` are dropped.
+// toggle it; phases shorter than `min_duration` are dropped, but for a phase the
+// recording's first or last frame cuts (it lasted longer than what was captured).
 //
 // Defaults (metres and seconds of the capture, before scaling to the robot):
 // 5 cm is the GMD foot-skating contact height (Karunratanakul et al. 2023,

@@ -68,6 +68,27 @@ TEST(ContactDetection, FindsTheStancePhasesOfASyntheticGait) {
   }
 }
 
+TEST(ContactDetection, APhaseTheRecordingCutsIsKeptHoweverShort) {
+  // The left foot is planted for the recording's first 0.05 s and its last 0.04 s, the right for 0.05 s
+  // in between: all three shorter than the 0.1 s minimum, only the middle one dropped.
+  const double duration = 2.0;
+  std::vector<uint8_t> left_truth, right_truth;
+  const std::vector<std::vector<Eigen::Vector3d>> feet = {
+      SyntheticFoot({{0.0, 0.05}, {1.96, 2.0}}, duration, &left_truth),
+      SyntheticFoot({{0.5, 0.55}, {1.2, 1.9}}, duration, &right_truth)};
+  std::vector<double> time;
+  for (size_t k = 0; k < feet[0].size(); ++k) time.push_back(static_cast<double>(k) / kRate);
+  const FootContacts contacts = DetectContacts(feet, time, {});
+  ASSERT_EQ(contacts.phases.size(), 3u);
+  EXPECT_EQ(contacts.phases[0].foot, 0);
+  EXPECT_EQ(contacts.phases[0].begin, 0);
+  EXPECT_GE(contacts.phases[0].end, 4);  // 6 planted frames, the speed window blurring the lift-off
+  EXPECT_EQ(contacts.phases[1].foot, 0);
+  EXPECT_EQ(contacts.phases[1].end, contacts.frames);
+  EXPECT_EQ(contacts.phases[2].foot, 1);
+  EXPECT_GT(time[static_cast<size_t>(contacts.phases[2].begin)], 1.1);
+}
+
 TEST(ContactDetection, HysteresisKeepsAContactThroughNoiseAtTheThreshold) {
   // A planted foot creeping at 0.4 m/s (between the begin speed 0.33 and the end speed 0.5): once
   // planted at rest, it stays planted; a foot that only ever creeps at 0.4 m/s never begins one.
@@ -114,6 +135,9 @@ TEST(ContactDetection, CmuWalkAlternatesItsFeet) {
     EXPECT_GT(fraction, 0.3) << "foot " << f;
     EXPECT_LT(fraction, 0.75) << "foot " << f;
   }
+  // The capture begins with the right foot at rest before its heel rises (9 frames): planted, though
+  // shorter than the minimum duration, since the recording cut it.
+  EXPECT_TRUE(contacts.at(0, 1)) << "the right foot at the first frame";
   int64_t airborne = 0, longest = 0;
   for (int64_t t = 0; t < contacts.frames; ++t) {
     airborne = contacts.at(t, 0) || contacts.at(t, 1) ? 0 : airborne + 1;
