@@ -135,6 +135,19 @@ int main(int argc, char** argv) {
   app.add_option("--contact-min-duration", options.contact.min_duration,
                  "Contact phases shorter than this (s) are dropped (0.1 s: the shortest human stance, sprinting)")
       ->capture_default_str();
+  app.add_option("--level-floor", options.floor.enabled,
+                 "Turn the take so its floor is level: a plane fitted to the standing foot landmarks (mocap floors are often "
+                 "tilted about 1°: CMU's walks rise up to 21 mm per metre); not when the fit is no floor (more than "
+                 "--level-floor-max-tilt, or 15 mm residual: uneven terrain)")
+      ->capture_default_str();
+  app.add_option_function<double>(
+         "--level-floor-max-tilt", [&](double degrees) { options.floor.max_tilt = degrees * M_PI / 180; },
+         "The largest floor tilt (degrees) --level-floor corrects")
+      ->default_str("2.86");
+  app.add_option_function<double>(
+         "--level-floor-min-tilt", [&](double degrees) { options.floor.min_tilt = degrees * M_PI / 180; },
+         "The smallest floor tilt (degrees) --level-floor corrects (a level floor's fit is that noisy)")
+      ->default_str("0.286");
   app.add_option("--enforce-contacts", options.enforce_contacts,
                  "Make the source's contacts exact, above every task: planted soles flat on z = 0 and still, no sole "
                  "point below the floor, the base lowered where a planted leg cannot reach (false: measured only)")
@@ -229,6 +242,14 @@ int main(int argc, char** argv) {
     syn::WriteMotionData(writer, motion);
     if (!summary.foot_sides.empty()) {
       // The quality figures a user filters trials by (syn-release's quality table reads them).
+      writer.writeAttribute("", "floor_tilt_deg", summary.floor_tilt_rad * 180 / M_PI);
+      writer.writeAttribute("", "floor_levelled", static_cast<int64_t>(summary.floor_levelled ? 1 : 0));
+      // The turn the take was given (the capture's coordinates to the targets'), for tools that draw the
+      // capture beside the robot.
+      writer.writeAttribute("", "floor_rotation_w", summary.floor_rotation.w());
+      writer.writeAttribute("", "floor_rotation_x", summary.floor_rotation.x());
+      writer.writeAttribute("", "floor_rotation_y", summary.floor_rotation.y());
+      writer.writeAttribute("", "floor_rotation_z", summary.floor_rotation.z());
       writer.writeAttribute("", "stance_drift_median_mm", summary.median_drift * 1000);
       writer.writeAttribute("", "stance_drift_p95_mm", summary.p95_drift * 1000);
       writer.writeAttribute("", "deepest_penetration_mm", summary.deepest_penetration * 1000);

@@ -125,6 +125,8 @@ LandmarkTrajectories CalibrationFrameLandmarks(const RetargetInputs& inputs) {
   calibration.bodies = capture.bodies;
   calibration.body_parents = capture.body_parents;
   calibration.body_pose = capture.calibration_body_pose;
+  // Not turned with the take when its floor is levelled: a BVH's calibration frame is its converter's rest
+  // pose, upright in the file's axes, not a subject standing on the capture's floor.
   return ComputeLandmarks(calibration, inputs.marker_set, inputs.capture_path);
 }
 
@@ -403,21 +405,31 @@ void FindWorstJointStep(const Model& model, const MotionData& motion, RetargetSu
 
 // The source's foot contacts, one column per robot foot (its side's "<side>_foot" landmark; a side the
 // marker set has no foot landmark for is never in contact).
-FootContacts SourceContacts(const RobotMap& map, const LandmarkTrajectories& landmarks, const std::vector<double>& time_s,
-                            const RetargetOptions& options, std::vector<std::string>& notes) {
+// Per robot-map foot, its side's "<side>_foot" landmark position per frame (NaN where missing, and in every
+// frame when the marker set has no such landmark: `missing` then names it).
+std::vector<std::vector<Eigen::Vector3d>> FootPositions(const RobotMap& map, const LandmarkTrajectories& landmarks,
+                                                        std::vector<std::string>* missing) {
   std::vector<std::vector<Eigen::Vector3d>> positions(map.feet.size());
   for (size_t f = 0; f < map.feet.size(); ++f) {
     const std::string name = map.feet[f].side + "_foot";
     const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), name);
     positions[f].assign(static_cast<size_t>(landmarks.frames), Eigen::Vector3d::Constant(std::nan("")));
     if (found == landmarks.names.end()) {
-      notes.push_back("marker set has no " + name + " landmark: that foot is never in contact");
+      if (missing != nullptr) missing->push_back(name);
       continue;
     }
     for (int64_t t = 0; t < landmarks.frames; ++t) {
       positions[f][static_cast<size_t>(t)] = SampleAt(landmarks, t, found - landmarks.names.begin()).position;
     }
   }
+  return positions;
+}
+
+FootContacts SourceContacts(const RobotMap& map, const LandmarkTrajectories& landmarks, const std::vector<double>& time_s,
+                            const RetargetOptions& options, std::vector<std::string>& notes) {
+  std::vector<std::string> missing;
+  const std::vector<std::vector<Eigen::Vector3d>> positions = FootPositions(map, landmarks, &missing);
+  for (const std::string& name : missing) notes.push_back("marker set has no " + name + " landmark: that foot is never in contact");
   return DetectContacts(positions, time_s, options.contact);
 }
 
@@ -640,7 +652,7 @@ bool RetargetOptions::HasValidValues(std::string* error) const {
   if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
   if (!(ik_function_tolerance > 0 && ik_function_tolerance < 1)) return fail("--ik-function-tolerance must be in (0, 1)");
   if (max_roll && !(*max_roll >= 0 && *max_roll <= M_PI / 2)) return fail("--max-roll must be in [0, pi/2] rad");
-  return contact.IsValid(error) && enforcement.IsValid(error) && contact_forces.IsValid(error);
+  return contact.IsValid(error) && floor.IsValid(error) && enforcement.IsValid(error) && contact_forces.IsValid(error);
 }
 
 nlohmann::json RetargetOptions::ToJson() const {
@@ -657,7 +669,9 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"max_roll", max_roll ? nlohmann::json(*max_roll) : nlohmann::json("map")}, {"contacts_above_speed", enforcement.contacts_above_speed},
           {"move_base_for_plants", enforcement.move_base_for_plants}, {"base_smoothing", enforcement.base_smoothing},
           {"heading_from_pelvis", heading_from_pelvis}, {"proportions", !proportions_per_chain ? "map" : *proportions_per_chain ? "chains" : "height"},
-          {"friction", contact_forces.friction}, {"neutral_reference", neutral_reference}};
+          {"friction", contact_forces.friction}, {"neutral_reference", neutral_reference},
+          {"level_floor", floor.enabled}, {"level_floor_max_tilt_deg", floor.max_tilt * 180 / M_PI},
+          {"level_floor_min_tilt_deg", floor.min_tilt * 180 / M_PI}};
 }
 
 std::string RetargetSummary::BriefReport() const {
@@ -668,7 +682,8 @@ std::string RetargetSummary::BriefReport() const {
       << median_angle_error[0] * 180 / M_PI << "/" << p95_angle_error[0] * 180 / M_PI << " deg, "
       << "P2 " << median_position_error[1] * 1000 << "/" << p95_position_error[1] * 1000 << " mm "
       << median_angle_error[1] * 180 / M_PI << "/" << p95_angle_error[1] * 180 / M_PI << " deg; worst joint step "
-      << worst_joint_step << " rad (" << worst_joint_step_name << "); IK " << ik_seconds << " s, " << mean_ik_iterations << " iterations/frame; refinement " << refinement_seconds << " s";
+      << worst_joint_step << " rad (" << worst_joint_step_name << "); floor tilted " << floor_tilt_rad * 180 / M_PI << " deg"
+      << (floor_levelled ? " (levelled)" : " (not levelled)") << "; IK " << ik_seconds << " s, " << mean_ik_iterations << " iterations/frame; refinement " << refinement_seconds << " s";
   if (!foot_sides.empty()) {
     out << "; source contact frames";
     for (size_t f = 0; f < foot_sides.size() && f < contact_frames.size(); ++f) out << " " << foot_sides[f] << " " << contact_frames[f];
@@ -729,9 +744,15 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   report.notes.insert(report.notes.end(), model.warnings().begin(), model.warnings().end());
   report.notes.insert(report.notes.end(), model.notes().begin(), model.notes().end());
 
-  const LandmarkTrajectories landmarks = ComputeLandmarks(inputs.capture, inputs.marker_set, inputs.capture_path);
+  LandmarkTrajectories landmarks = ComputeLandmarks(inputs.capture, inputs.marker_set, inputs.capture_path);
   const int64_t frames = landmarks.frames;
   if (frames == 0) throw DataError(Location::InFile(inputs.capture_path), "the capture has no frames");
+  const FloorPlane floor = EstimateFloorPlane(FootPositions(inputs.map, landmarks, nullptr), inputs.capture.time_s, options.floor);
+  LevelLandmarks(floor, landmarks);
+  report.floor_tilt_rad = floor.tilt_rad;
+  report.floor_levelled = floor.levelled;
+  if (floor.levelled) report.floor_rotation = floor.rotation;
+  if (!floor.note.empty()) report.notes.push_back(floor.note);
   const TrackedTasks tasks = SelectTasks(inputs, landmarks, options, report.notes);
   // The landmarks at the reference stance: the capture's calibration frame, or a frame of the take.
   LandmarkTrajectories calibration = CalibrationLandmarks(inputs, tasks, options, report.notes);

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "common/marker_data.h"
@@ -22,6 +23,7 @@
 #include "common/motion_file.h"
 #include "common/robot_map.h"
 #include "stages/retarget/contact_detection.h"
+#include "stages/retarget/floor_levelling.h"
 #include "stages/retarget/contact_enforcement.h"
 #include "common/contact_forces.h"
 
@@ -69,6 +71,8 @@ struct RetargetOptions {
   // The source's foot contacts (contact_detection.h: thresholds and their sources): stored in the motion
   // and measured on the result (stance drift, penetration, foot skating).
   ContactDetectionOptions contact;
+  // The take turned so its floor, fitted to the standing feet, is level (floor_levelling.h).
+  FloorLevellingOptions floor;
   // Contacts as constraints above every task (contact_enforcement.h): planted soles flat on the floor and
   // still, no sole point below it, the base lowered where a planted leg cannot reach. false: measured only.
   bool enforce_contacts = true;
@@ -96,6 +100,9 @@ struct RetargetSummary {
   double scale = 1.0;      // the legs' (stance_alignment.h): pelvis, feet, trunk and head
   double arm_scale = 1.0;  // the elbows' and hands' motion relative to the pelvis
   double heading_rad = 0.0;
+  double floor_tilt_rad = 0.0;  // the capture's floor plane against the horizontal (floor_levelling.h)
+  bool floor_levelled = false;  // and whether the take was turned level
+  Eigen::Quaterniond floor_rotation = Eigen::Quaterniond::Identity();  // how (about a point on the floor)
   // Per priority level 1..3: median and 95th percentile of position (m) and angle (rad) errors.
   std::array<double, 3> median_position_error{}, p95_position_error{}, median_angle_error{}, p95_angle_error{};
   double worst_joint_step = 0.0;        // largest per-frame |Δq| of any joint (rad)

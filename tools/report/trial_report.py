@@ -9,7 +9,7 @@ import numpy as np
 
 import plotting
 from files import open_hdf5, write_atomically
-from urdf_fk import Robot
+from urdf_fk import Robot, quaternion_matrices
 
 PLAYER_RATE_HZ = 60.0   # playback samples: enough for smooth motion at a fraction of a 120 Hz capture's bytes
 WORST_FRAMES = 8        # rows in the worst-frames table
@@ -27,6 +27,13 @@ def read_motion(path):
             motion["landmark_names"] = [_text(n) for n in file["landmark_names"][()]]
             motion["landmark_targets"] = file["landmark_targets"][()]
             motion["landmark_error"] = file["landmark_error"][()]
+        # The turn syn-retarget gave the capture to level its floor (identity when it did not).
+        attrs = file.attrs
+        if "floor_rotation_w" in attrs:
+            turn = np.array([[float(attrs["floor_rotation_" + k]) for k in "wxyz"]])
+            motion["floor_rotation"] = quaternion_matrices(turn)[0]
+        else:
+            motion["floor_rotation"] = np.eye(3)
         if "contact" in file:  # issue 17: contact[T, feet], with the feet's names when given
             motion["contact"] = np.asarray(file["contact"][()]).astype(bool)
             names = file["contact"].attrs.get("feet", file.attrs.get("contact_feet"))
@@ -192,6 +199,9 @@ def fit_human_alignment(human, motion, markerset_path):
         if indexes and None not in indexes:
             pairs.append((motion["landmark_names"].index(entry["name"]),
                           human["positions"][:, indexes].mean(axis=1)))
+    # The capture turned as syn-retarget turned it to level its floor, then the yaw and scale fitted.
+    floor = motion.get("floor_rotation", np.eye(3))
+    pairs = [(landmark, p @ floor.T) for landmark, p in pairs]
     rotation, scale, heading = np.eye(3), 1.0, 0.0
     p_all, q_all = [], []
     for landmark, p in pairs:
@@ -214,8 +224,9 @@ def fit_human_alignment(human, motion, markerset_path):
         valid = np.isfinite(p).all(axis=1) & np.isfinite(q).all(axis=1)
         if valid.any():
             offset = q[valid].mean(axis=0) - scale * rotation @ p[valid].mean(axis=0)
-    return {"rotation": rotation, "scale": scale, "heading_deg": float(np.degrees(heading)), "offset": offset,
-            "pairs": pairs}
+    # "rotation" takes capture coordinates to the robot's: the floor's turn, then the heading.
+    return {"rotation": rotation @ floor, "scale": scale, "heading_deg": float(np.degrees(heading)), "offset": offset,
+            "pairs": [(landmark, p @ floor) for landmark, p in pairs]}
 
 
 def write_trial(trial, markers_path, markerset_path, motion_path, segments_path, urdf_path, robot_map_path, metrics_path, out_dir):
