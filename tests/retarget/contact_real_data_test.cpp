@@ -311,7 +311,7 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
 // Walking has no flight phase: a robot walk with every sole more than 2 cm above the floor is hovering.
 // CMU's capture floors are tilted about 1° (subjects 02, 07, 08 rise 13-21 mm per metre walked); before
 // the stage levelled them (2026-11-27), contact detection lost the planted feet at a walk's far end and
-// the robot walked up the slope: on G1, 08_04 hovered in 34.5 % of frames, 08_11 15 %, 07_04 19 %, and 11 of
+// the robot walked up the slope: on G1, 08_04 hovered in 34.5 % of frames, 08_11 15 %, 07_04 19 %, and 8 of
 // 17 plane-floor walks more than 2 %; levelled, every one at most 1 %. The walks whose floor is no plane are
 // CMU 03_0x (walking over uneven terrain: the stance feet's heights scatter 26-53 mm about any plane); the
 // stage leaves them unlevelled, and a flat-floored robot cannot stand where the subject stood on a block.
