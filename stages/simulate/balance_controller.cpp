@@ -28,6 +28,16 @@ BalanceController::BalanceController(const Model& model, const RobotMap& map, co
     for (const std::array<double, 3>& p : foot.sole_points) sole_points_.back().emplace_back(p[0], p[1], p[2]);
   }
   touching_.resize(foot_links_.size());
+  for (const int link : foot_links_) {
+    int found = -1;
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      if (tasks[i].link == link && tasks[i].type != TaskType::kOrientation) found = static_cast<int>(i);
+    }
+    foot_tasks_.push_back(found);
+  }
+  was_planted_.assign(foot_links_.size(), true);
+  swing_start_.assign(foot_links_.size(), 0.0);
+  landing_shift_.assign(foot_links_.size(), Eigen::Vector2d::Zero());
   standing_.assign(foot_links_.size(), false);
   jacobian_.resize(6, model.nu());
   // Which base velocities translate the base: their columns of its Jacobian have no angular part (a free
@@ -53,8 +63,8 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
   const double s = fraction;
   const auto blend2 = [&](const std::vector<Eigen::Vector2d>& values) { return ((1 - s) * values[a] + s * values[b]).eval(); };
   const auto blend1 = [&](const std::vector<double>& values) { return (1 - s) * values[a] + s * values[b]; };
-  const Eigen::Vector2d com_plan = blend2(plan_.com), velocity_plan = blend2(plan_.com_velocity);
-  const Eigen::Vector2d acceleration_plan = blend2(plan_.com_acceleration), zmp_plan = blend2(plan_.zmp);
+  const Eigen::Vector2d com_plan = blend2(plan_.com) + plan_offset_, velocity_plan = blend2(plan_.com_velocity);
+  const Eigen::Vector2d acceleration_plan = blend2(plan_.com_acceleration), zmp_plan = blend2(plan_.zmp) + plan_offset_;
   const double omega = 1.0 / std::sqrt(blend1(plan_.eta));
   const Eigen::Vector3d com = workspace.findCenterOfMass();
   const Eigen::Vector3d velocity = workspace.calcCentroidalMomentum().tail<3>() / mass_;
@@ -111,6 +121,9 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
     base_force_[static_cast<Eigen::Index>(i)] = jacobian_.col(translation_velocities_[i]).tail<3>().dot(force);
   }
   controller.setCentreOfMassLevel(translation_velocities_, base_force_);
+  if (options_.max_step_shift > 0) {
+    step((1 - s) * plan_.time[a] + s * plan_.time[b], a, planted, capture_error, commanded_zmp - zmp_plan, omega, references);
+  }
 
   if (base_task_ >= 0) {
     TaskReference& reference = references[static_cast<size_t>(base_task_)];
@@ -118,6 +131,31 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
     reference.velocity.segment<2>(3) = velocity.head<2>() + (reference.velocity.segment<2>(3) - velocity_plan);
     reference.acceleration.segment<2>(3) = horizontal + (reference.acceleration.segment<2>(3) - acceleration_plan);
   }
+}
+
+void BalanceController::step(double now, size_t frame, const int64_t* planted, const Eigen::Vector2d& capture_error,
+                             const Eigen::Vector2d& zmp_error, double omega, std::vector<TaskReference>& references) {
+  for (size_t f = 0; f < foot_links_.size(); ++f) {
+    if (foot_tasks_[f] < 0) continue;
+    if (planted[f] != 0) {
+      if (!was_planted_[f]) plan_offset_ += landing_shift_[f];  // it landed: the plan walks on from there
+      landing_shift_[f].setZero();
+      was_planted_[f] = true;
+      continue;
+    }
+    if (was_planted_[f]) swing_start_[f] = now;
+    was_planted_[f] = false;
+    const int64_t touchdown = plan_.next_touchdown[f][frame];
+    if (touchdown < 0) continue;
+    const double landing = plan_.time[static_cast<size_t>(touchdown)], left = landing - now;
+    if (left <= 0) continue;
+    Eigen::Vector2d shift = (capture_error - zmp_error) * std::exp(omega * left) + zmp_error;
+    if (shift.norm() > options_.max_step_shift) shift *= options_.max_step_shift / shift.norm();
+    landing_shift_[f] = shift;
+    const double progress = std::clamp((now - swing_start_[f]) / std::max(landing - swing_start_[f], 1e-6), 0.0, 1.0);
+    references[static_cast<size_t>(foot_tasks_[f])].position.head<2>() += progress * progress * (3 - 2 * progress) * shift;
+  }
+  for (TaskReference& reference : references) reference.position.head<2>() += plan_offset_;
 }
 
 }  // namespace syn

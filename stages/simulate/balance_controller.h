@@ -24,6 +24,15 @@
 // The base task's horizontal target is rewritten to the measured centre of mass plus the reference's
 // offset of the base from it: its PD keeps the body's shape, the level moves it.
 // Where no sole touches (a jump, a fall), the level is cleared and the body moves ballistically.
+//
+// Stepping (Pratt's capture point; Englsberger's DCM step adjustment): through a single support the sole
+// is all the zero-moment point has, and G1's is 5 cm wide. A capture-point error of 2 cm at the start of
+// a 0.5 s stance grows to 15 cm (e^{ωT} ≈ 7) once the zero-moment point sits on the sole's edge. So each
+// swinging foot lands where the plan would have it relative to the capture point: its target moves by the
+// capture-point error predicted at its touchdown (the source's next planted frame), the zero-moment point
+// held where it is commanded, e_T = (e − Δp) e^{ω T} + Δp, capped at `max_step_shift` and faded in over
+// the swing (smoothstep); when it lands, the whole plan (centre of mass, zero-moment point and every task)
+// walks on shifted by that landing shift. Without it no CMU walk stayed up.
 #pragma once
 
 #include <vector>
@@ -44,6 +53,9 @@ struct BalanceControllerOptions {
   double kv = 25.0;             // 1/s: its rate
   double friction = 0.8;        // μ of the planned forces (the contact-force split's)
   double touch_height = 0.002;  // m: a sole point this close to the floor supports (the planned forces')
+  // m: the largest landing shift of a stepping foot (0: no stepping). 0.15: about G1's foot length; on the 21
+  // CMU walks 0.08, 0.15, 0.2 and 0.25 kept 0-4 up, the count chaotic in it (issue 18's notes).
+  double max_step_shift = 0.15;
 };
 
 class BalanceController {
@@ -65,6 +77,15 @@ class BalanceController {
   int base_link_ = -1;
   std::vector<int> translation_velocities_;  // the unactuated velocities that translate the base (the level's rows)
   std::vector<int> foot_links_;
+  // Stepping: per foot its task (-1: none), whether the source planted it at the last call, when its
+  // swing began and the landing shift planned for it; and the shift of the whole plan so far.
+  std::vector<int> foot_tasks_;
+  std::vector<bool> was_planted_;
+  std::vector<double> swing_start_;
+  std::vector<Eigen::Vector2d> landing_shift_;
+  Eigen::Vector2d plan_offset_ = Eigen::Vector2d::Zero();
+  void step(double now, size_t frame, const int64_t* planted, const Eigen::Vector2d& capture_error,
+            const Eigen::Vector2d& zmp_error, double omega, std::vector<TaskReference>& references);
   std::vector<std::vector<Eigen::Vector3d>> sole_points_;    // per foot, in its link frame
   std::vector<std::vector<Eigen::Vector2d>> touching_;       // per foot, its sole points on the floor (x, y)
   std::vector<bool> standing_;

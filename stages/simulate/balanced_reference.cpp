@@ -163,28 +163,28 @@ Eigen::SparseMatrix<double> SecondDifference(const std::vector<double>& time) {
   return d2;
 }
 
-// The shift x whose pendulum zmp change x − η D² x is nearest to b in least squares, starting from rest:
-// x₀ = x₁ = 0, so the simulation, which starts from the motion's own first state and velocity, starts on
-// the plan (a plan that started moving left the capture point 5 cm off from the first step, and the robot
-// fell over its stance foot). A tiny weight on x keeps the system definite where η D² vanishes.
+// The shift x whose pendulum zmp change x − η D² x is nearest to b in least squares, free at both ends.
+// Held at rest for its first two frames (as it was), the plan could not be met: a take that begins
+// mid-stride needs its centre of mass already moving towards the next stance foot (CMU 02_01: the plan's
+// own zero-moment point 4-7 cm outside the left sole through the first left stance). Free, it is within
+// 5 mm of the support in every frame, and the simulation starts on its first state (plan_start.h). A tiny
+// weight on x keeps the system definite where η D² vanishes.
 void SolvePendulum(const Eigen::SparseMatrix<double>& d2, const std::vector<double>& eta, const std::vector<double>& b,
                    std::vector<double>& x) {
   const Eigen::Index n = static_cast<Eigen::Index>(b.size());
   x.assign(b.size(), 0.0);
-  constexpr Eigen::Index kFixed = 2;
-  if (n <= kFixed) return;
+  if (n == 0) return;
   Eigen::SparseMatrix<double> identity(n, n);
   identity.setIdentity();
   Eigen::SparseMatrix<double> eta_diagonal(n, n);
   for (Eigen::Index i = 0; i < n; ++i) eta_diagonal.insert(i, i) = eta[static_cast<size_t>(i)];
   const Eigen::SparseMatrix<double> pendulum = identity - eta_diagonal * d2;
-  const Eigen::SparseMatrix<double> free = pendulum.rightCols(n - kFixed);
-  Eigen::SparseMatrix<double> normal = free.transpose() * free;
-  for (Eigen::Index i = 0; i < n - kFixed; ++i) normal.coeffRef(i, i) += kShiftWeight;
-  const Eigen::VectorXd rhs = free.transpose() * Eigen::Map<const Eigen::VectorXd>(b.data(), n);
+  Eigen::SparseMatrix<double> normal = pendulum.transpose() * pendulum;
+  for (Eigen::Index i = 0; i < n; ++i) normal.coeffRef(i, i) += kShiftWeight;
+  const Eigen::VectorXd rhs = pendulum.transpose() * Eigen::Map<const Eigen::VectorXd>(b.data(), n);
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
   const Eigen::VectorXd solution = solver.solve(rhs);
-  for (Eigen::Index i = 0; i < n - kFixed; ++i) x[static_cast<size_t>(i + kFixed)] = solution[i];
+  for (Eigen::Index i = 0; i < n; ++i) x[static_cast<size_t>(i)] = solution[i];
 }
 
 }  // namespace
@@ -206,6 +206,19 @@ BalanceShift PlanBalanceShift(const MotionData& motion, const Model& model, cons
   for (size_t f = 0; f < map.feet.size(); ++f) {
     for (size_t c = 0; c < motion.contact_feet.size(); ++c) {
       if (motion.contact_feet[c] == map.feet[f].side) contact_column[f] = static_cast<int>(c);
+    }
+  }
+  shift.time = motion.time_s;
+  shift.next_touchdown.assign(map.feet.size(), std::vector<int64_t>(static_cast<size_t>(frames), -1));
+  for (size_t f = 0; f < map.feet.size(); ++f) {
+    if (contact_column[f] < 0) continue;
+    const auto planted_at = [&](int64_t t) {
+      return motion.contact[static_cast<size_t>(t) * motion.contact_feet.size() + static_cast<size_t>(contact_column[f])] != 0;
+    };
+    int64_t next = -1;
+    for (int64_t t = frames - 1; t >= 0; --t) {
+      if (planted_at(t) && (t == 0 || !planted_at(t - 1))) next = t;
+      shift.next_touchdown[f][static_cast<size_t>(t)] = next;
     }
   }
   std::vector<int> foot_links;

@@ -17,9 +17,9 @@
 //  3. the horizontal centre-of-mass shift Δc that produces Δp. With the centre of mass at height z and
 //     vertical ground force F_z, the linear inverted pendulum gives Δp = Δc − η Δc̈, η = m z / F_z. Its
 //     bounded solution is Δp convolved with e^(−|t|/√η) / (2√η): the robot leans before it needs to
-//     (preview), not after. On the frames: the least-squares Δc of (I − η D²) Δc ≈ Δp starting from
-//     rest (Δc = 0 in the first two frames, as the simulation starts from the motion's own state), a
-//     banded system solved in O(frames).
+//     (preview), not after. On the frames: the least-squares Δc of (I − η D²) Δc ≈ Δp, free at both
+//     ends (a take that begins mid-stride begins with its centre of mass already on its way: the
+//     simulation starts on the plan's first state), a banded system solved in O(frames).
 // The controller then tracks every task above the legs (pelvis, torso, head, hands) shifted by
 // Δc / α, where α is the fraction of Δc a rigid shift of the body above the hips gives (the legs, whose
 // feet stay put, follow half-way): the robot leans, its feet and its posture as the source's; and the
@@ -61,6 +61,10 @@ struct BalanceShift {
   std::vector<double> com_height, com_height_velocity, com_height_acceleration;
   std::vector<Eigen::Vector3d> angular_momentum, angular_momentum_rate;
   std::vector<std::vector<Eigen::Vector2d>> support;
+  // The frame times, and per map foot and frame the first frame at or after it where the source plants
+  // that foot after a swing (a touchdown; -1 if none follows): when a swinging foot lands.
+  std::vector<double> time;
+  std::vector<std::vector<int64_t>> next_touchdown;
   // Every link on a foot's chain up to (not including) the base: tasks there are not shifted.
   std::vector<bool> leg_link;
   // Diagnostics: frames whose reference ZMP lay outside the shrunk support, the largest ZMP correction

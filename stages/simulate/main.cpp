@@ -58,6 +58,10 @@ int main(int argc, char** argv) {
   app.add_option("--balance-gain", options.balance_gain,
                  "Ground mode: rate (1/s) at which the capture point returns to the balance plan's")
       ->capture_default_str();
+  app.add_option("--step-adjustment", options.step_adjustment,
+                 "Ground mode: a swinging foot lands up to this far (m) off its planned place, by the capture point's "
+                 "error predicted at its touchdown, and the plan walks on from there (0: no stepping)")
+      ->capture_default_str();
   bool no_joint_limits = false;
   app.add_flag("--no-joint-limits", no_joint_limits,
                "Do not hold joints inside the URDF's position limits (for diagnosis: without them a straightening "

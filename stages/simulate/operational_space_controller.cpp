@@ -12,8 +12,9 @@ namespace {
 constexpr int kLimitPasses = 3;
 // Rounds of re-solving the free torques after some clipped (see redistributeClippedTorque).
 constexpr int kClipRounds = 3;
-// Levels 0-1: the joint-limit walls and the centre of mass (ground mode; empty otherwise).
-constexpr int kCentreOfMassLevel = 1, kFirstTaskLevel = 2;
+// Levels 0-2: the joint-limit walls, the standing feet and the centre of mass (both ground mode; empty
+// otherwise).
+constexpr int kStanceLevel = 1, kCentreOfMassLevel = 2, kFirstTaskLevel = 3;
 
 // A joint with a limit within 0.2 rad of its zero: a knee (G1 −0.087 … 2.88 rad) or an elbow whose zero
 // is the straight limb, where the limit is the straight configuration and past it lies the mirrored
@@ -137,6 +138,11 @@ int OperationalSpaceController::calcTorques(Workspace& workspace, const std::vec
     centre_of_mass.jacobian.row(r) = mass_.mass().row(i);
     centre_of_mass.acceleration[r] = base_force_[r] - bias_forces_[i];
   }
+  PriorityLevel& stance = levels_[kStanceLevel];
+  if (!stance_level_) {
+    stance.jacobian.resize(0, workspace.model().nu());
+    stance.acceleration.resize(0);
+  }
   active_limits_.clear();
   PriorityLevel& walls = levels_[0];
   walls.jacobian.resize(0, workspace.model().nu());
@@ -168,6 +174,14 @@ void OperationalSpaceController::setCentreOfMassLevel(const std::vector<int>& ba
 }
 
 void OperationalSpaceController::clearCentreOfMassLevel() { com_level_ = false; }
+
+void OperationalSpaceController::setStanceLevel(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& acceleration) {
+  levels_[kStanceLevel].jacobian = jacobian;
+  levels_[kStanceLevel].acceleration = acceleration;
+  stance_level_ = true;
+}
+
+void OperationalSpaceController::clearStanceLevel() { stance_level_ = false; }
 
 void OperationalSpaceController::calcAcceleration(const Eigen::VectorXd& tau, Eigen::VectorXd& udot) const {
   udot = tau - bias_forces_;

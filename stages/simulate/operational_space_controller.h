@@ -80,6 +80,10 @@ class OperationalSpaceController {
   // mass accelerates by the force the soles will push.
   void setCentreOfMassLevel(const std::vector<int>& base_velocities, const Eigen::VectorXd& base_force);
   void clearCentreOfMassLevel();
+  // Ground mode (StanceFeet): a level above the centre of mass's, the standing feet held where they touched
+  // down: jacobian u̇ = acceleration.
+  void setStanceLevel(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& acceleration);
+  void clearStanceLevel();
 
   // After calcTorques: A and b + g at its state.
   const Eigen::MatrixXd& massMatrix() const { return mass_.mass(); }
@@ -100,10 +104,11 @@ class OperationalSpaceController {
   ControllerOptions options_;
   std::vector<ControlledTask> tasks_;
   std::vector<TaskRows> rows_;
-  std::vector<PriorityLevel> levels_;  // walls, centre of mass, then the tasks' priorities
+  std::vector<PriorityLevel> levels_;  // walls, standing feet, centre of mass, then the tasks' priorities
   std::vector<int> base_velocities_;
   Eigen::VectorXd base_force_;
   bool com_level_ = false;
+  bool stance_level_ = false;
   PrioritizedControl hierarchy_;
   TreeMassFactorization mass_;  // A at the step's configuration, factored once for every A⁻¹ x
   bool free_base_;

@@ -6,11 +6,15 @@
 #include <sstream>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 
 #include "common/error.h"
 #include "stages/simulate/balance_controller.h"
 #include "stages/simulate/contact_consistent_torques.h"
 #include "stages/simulate/ground_contact.h"
+#include "stages/simulate/plan_start.h"
+#include "stages/simulate/stance_feet.h"
 
 namespace syn {
 namespace {
@@ -87,6 +91,7 @@ bool SimulateOptions::IsValid(std::string* error) const {
   const double damping = controller.hierarchy.damping;
   if (!(damping >= 0 && damping < 1)) return fail("--damping must be in [0, 1), got " + std::to_string(damping));
   if (!(balance_gain >= 0 && balance_gain <= 1e3)) return fail("--balance-gain must be in [0, 1000] 1/s, got " + std::to_string(balance_gain));
+  if (!(step_adjustment >= 0 && step_adjustment <= 1)) return fail("--step-adjustment must be in [0, 1] m, got " + std::to_string(step_adjustment));
   if (contact == ContactMode::kGround && integrator != Integrator::kSemiImplicitEuler) {
     return fail("--contact ground needs --integrator euler (the friction anchors move once per step)");
   }
@@ -106,7 +111,7 @@ nlohmann::json SimulateOptions::ToJson() const {
           {"targets", std::string(TargetSourceName(targets))},
           {"integrator", std::string(IntegratorName(integrator))},
           {"no_balance", !balance},
-          {"balance_gain", balance_gain}};
+          {"balance_gain", balance_gain}, {"step_adjustment", step_adjustment}};
 }
 
 std::string SimulateSummary::BriefReport() const {
@@ -162,6 +167,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   }
   std::optional<GroundContact> ground_contact;
   std::optional<ContactConsistentTorques> distribution;
+  std::optional<StanceFeet> stance_feet;
   // The source's planted flags per map foot (zero where the motion has none).
   std::vector<int> contact_column(map.feet.size(), -1);
   if (ground) {
@@ -169,6 +175,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     ContactForceOptions planned;
     planned.max_height = kPlannedContactHeight;
     distribution.emplace(model, map.feet, planned, options.controller.effort_limits);
+    stance_feet.emplace(model, map.feet, StanceFeetOptions{.touch_height = kPlannedContactHeight});
     for (size_t f = 0; f < map.feet.size(); ++f) {
       for (size_t c = 0; c < input.contact_feet.size(); ++c) {
         if (input.contact_feet[c] == map.feet[f].side) contact_column[f] = static_cast<int>(c);
@@ -182,6 +189,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     references.shiftAboveLegs(balance, tasks);
     BalanceControllerOptions balance_options;
     balance_options.capture_gain = options.balance_gain;
+    balance_options.max_step_shift = options.step_adjustment;
     balance_options.kp = options.controller.kp;
     balance_options.kv = options.controller.kv;
     balance_options.touch_height = kPlannedContactHeight;
@@ -220,6 +228,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(input.q.data(), nq);
   Eigen::VectorXd u = Eigen::Map<const Eigen::VectorXd>(input.u.data(), nu);
   if (ground) StandOnTheFloor(model, map, workspace, q);
+  if (ground && options.balance) StartOnThePlan(model, map, balance, workspace, q, u);
   Eigen::VectorXd tau(nu), udot(nu), contact_forces(nu), applied(nu);
   Eigen::MatrixXd contact_stiffness(nu, nu), contact_damping(nu, nu), implicit_mass(nu, nu);
   Eigen::LDLT<Eigen::MatrixXd> implicit_solver(nu);
@@ -235,6 +244,13 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     for (size_t f = 0; f < planted.size(); ++f) {
       const int c = contact_column[f];
       planted[f] = c < 0 ? 0 : input.contact[static_cast<size_t>(frame) * input.contact_feet.size() + static_cast<size_t>(c)];
+    }
+    if (stance_feet) {
+      if (stance_feet->update(workspace, planted.data()) > 0) {
+        controller.setStanceLevel(stance_feet->jacobian(), stance_feet->acceleration());
+      } else {
+        controller.clearStanceLevel();
+      }
     }
     if (balance_controller) balance_controller->apply(workspace, frame, fraction, planted.data(), task_references, controller);
     int saturated = controller.calcTorques(workspace, task_references, posture, tau);

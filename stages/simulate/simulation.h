@@ -39,6 +39,8 @@ struct SimulateOptions {
   bool balance = true;
   // 1/s: how fast the capture point returns to the plan's (BalanceController).
   double balance_gain = 3.0;
+  // m: the largest shift of a stepping foot's landing (BalanceController; 0: no stepping).
+  double step_adjustment = 0.15;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;

@@ -51,15 +51,13 @@ TEST(BalancePlan, PlannedZmpStaysInsideTheFeetOnARealWalk) {
   const BalanceShift plan = PlanBalanceShift(walk, model, map, options);
   const size_t frames = walk.time_s.size();
   ASSERT_EQ(plan.zmp.size(), frames);
-  // From rest: the first two frames are not shifted.
-  EXPECT_EQ(plan.position[0].norm(), 0.0);
-  EXPECT_EQ(plan.position[1].norm(), 0.0);
   const double mass = model.totalMass(), gravity = model.gravity();
   int checked = 0, inside = 0, consistent = 0;
   for (size_t t = 0; t < frames; ++t) {
-    // The plan starts from the motion's own first state, whose zero-moment point lies 30 cm off the feet:
-    // it reaches the feet within about two of the pendulum's time constants (√η ≈ 0.27 s).
-    if (walk.time_s[t] - walk.time_s[0] < 0.6 || plan.support[t].empty()) continue;
+    // Every frame, the first ones too: the plan is free at its start (held at rest for its first two
+    // frames, as it was, its zero-moment point lay 4-7 cm outside the left sole through the first left
+    // stance, and this test skipped the first 0.6 s).
+    if (plan.support[t].empty()) continue;
     const double vertical = mass * (gravity + plan.com_height_acceleration[t]);
     if (vertical < 0.3 * mass * gravity) continue;  // where the plan caps the pendulum's time constant
     // Moment balance about the floor point p: (c − p) × F + L̇ has no horizontal part, F = m (c̈ + g).
@@ -73,7 +71,7 @@ TEST(BalancePlan, PlannedZmpStaysInsideTheFeetOnARealWalk) {
     // The support is the soles' polygon shrunk by the margin: within the margin of it is on the soles.
     inside += Inside(zmp, plan.support[t], options.margin) ? 1 : 0;
   }
-  ASSERT_GT(checked, static_cast<int>(frames) / 2);
+  ASSERT_GT(checked, static_cast<int>(frames) * 3 / 4);
   EXPECT_GE(consistent, 0.95 * checked) << consistent << " of " << checked;
   EXPECT_GE(inside, 0.95 * checked) << inside << " of " << checked;
   EXPECT_GT(plan.corrected_frames, static_cast<int64_t>(frames) / 4);

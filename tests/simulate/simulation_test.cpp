@@ -1,6 +1,8 @@
 // syn-simulate on the real G1 and a real CMU walk: the dynamics integrate conservatively, and the
 // controller reproduces the kinematic mapping.
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -9,6 +11,7 @@
 #include "common/model.h"
 #include "common/robot_map.h"
 #include "stages/simulate/fixed_step_integrator.h"
+#include "stages/ingest/text_fields.h"
 #include "stages/simulate/simulation.h"
 #include "tests/support/demo_motion.h"
 #include "tests/support/shared_data.h"
@@ -207,15 +210,57 @@ namespace {
 
 // Capture-point balance: a standing G1 shoved sideways at 0.5 m/s (its capture point 12 cm out, near
 // the outer edge of its foot at 15 cm) stands with the balance controller, which moves its zero-moment
-// point to that edge and its centre of mass back; tracking its pelvis by the paper's PD alone
-// (--no-balance), it falls at 1.2 s. (At 0.55 m/s both fall: it does not step.)
+// point to that edge and its centre of mass back. Shoved at 1 m/s (25 cm out, past the foot), it cannot
+// stand without stepping, and a standing motion has no step to take: the stage reports the fall.
+// Since the standing feet are held as a level above the tasks (stance_feet.h, 2026-11-27), the paper's PD
+// on the pelvis alone (--no-balance) also stands at 0.5 m/s (before, it fell at 1.2 s), and at 0.6 and
+// 0.8 m/s, where the balance controller falls (1.3 and 1.0 s): its centre-of-mass level leaves the body's
+// turn to the tasks, and the PD's pelvis, tipping with the feet held, turns the body to recover. On the
+// CMU walks the balance plan and stepping keep 4 of 21 up, none without them (issue 18's notes).
 TEST_F(GroundMode, BalanceCatchesASideShove) {
   MotionData motion = testing::StandingMotion(model, map, 2.0);
   motion.u[4] = 0.5;  // the first frame's base velocity along y
   const SimulationResult result = Simulate(motion, "shoved", model, map, options);
   EXPECT_GT(result.summary.lowest_pelvis_ratio, 0.95);
+  motion.u[4] = 1.0;
+  EXPECT_THROW((void)Simulate(motion, "shoved hard", model, map, options), DataError);
   options.balance = false;
-  EXPECT_THROW((void)Simulate(motion, "shoved, no balance", model, map, options), DataError);
+  EXPECT_THROW((void)Simulate(motion, "shoved hard, no balance", model, map, options), DataError);
+}
+
+// Issue 18's ground mode on every shared CMU walk (index.csv's walk class) retargeted onto G1: how many stay
+// up (pelvis never under 60 % of the reference's), printed with each fall's time. Not every walk yet: on
+// 2026-11-27 4 of 21 (02_01, 02_02, 07_01, 07_06; 02_01 down to 68 % of its pelvis height), the others falling
+// after 0.5-2.9 s; without stepping (--step-adjustment 0) or without the balance plan (--no-balance), none;
+// before the plan was freed at its start and the simulation started on it, with neither the standing-feet
+// level nor stepping, none (0.58-2.05 s). Which walks
+// stay up changes with any parameter (stepping capped at 0.08/0.15/0.2/0.25 m: 0/4/0/2), so the guard is
+// below today's count. Subject 03's walks are over uneven terrain, which a flat floor cannot give them.
+TEST_F(GroundMode, SomeCmuWalksStayUp) {
+#ifdef SYN_SANITIZED_BUILD
+  GTEST_SKIP() << "the real-data ground-mode sweep runs in the Release test run, not under the sanitizers";
+#endif
+  SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
+  std::ifstream index(testing::SharedPath("cmu_bvh/index.csv"));
+  std::string line;
+  std::getline(index, line);
+  int walks = 0, up = 0;
+  while (std::getline(index, line)) {
+    const std::vector<std::string> cells = SplitQuotedCsv(line);
+    if (cells.size() < 5 || cells[4] != "walk") continue;
+    ++walks;
+    const MotionData walk = testing::CmuBvhOnG1(testing::SharedPath("cmu_bvh/" + cells[2]));
+    try {
+      const SimulationResult result = Simulate(walk, cells[1], model, map, options);
+      ++up;
+      std::printf("%s: stays up (lowest pelvis %.2f of the reference's)\n", cells[1].c_str(), result.summary.lowest_pelvis_ratio);
+    } catch (const DataError& error) {
+      std::printf("%s: %s\n", cells[1].c_str(), error.what());
+    }
+  }
+  std::printf("ground mode: %d of %d CMU walks stay up\n", up, walks);
+  EXPECT_EQ(walks, 21);
+  EXPECT_GE(up, 2);
 }
 
 }  // namespace

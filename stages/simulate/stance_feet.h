@@ -1,0 +1,59 @@
+// `--contact ground`: the feet the robot stands on, held where they touched down.
+//
+// A foot the source plants whose sole touches the floor (its lowest sole point within `touch_height`)
+// is a contact, not a task: its sole centre is anchored on the floor where it touched down, with the
+// heading it had, and flat. StanceFeet gives the controller those constraints as acceleration rows,
+// J_f u̇ = a*_f − J̇_f u with a*_f a critically damped PD back to the anchor (stiffer than the tasks'),
+// which the operational-space controller ranks above the centre of mass and every task. The planned
+// motion then keeps the standing feet still, so the sole forces the contact split gives are the floor's
+// own reaction and the legs move the body over feet that stay put. Left to the pose tasks of priority 1
+// instead (shared with the pelvis and the hands, and dropped where they conflict), a stance foot rolled
+// onto its heel edge in CMU 02_01's first step, and the zero-moment point the balance plan needed
+// 15 cm ahead of that edge could not be reached.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/model.h"
+#include "common/robot_map.h"
+
+namespace syn {
+
+struct StanceFeetOptions {
+  double touch_height = 0.002;  // m: a sole point this close to the floor touches it
+  double stiffness = 900.0;     // 1/s²: the hold's PD (damping 2√k: critical)
+};
+
+class StanceFeet {
+ public:
+  StanceFeet(const Model& model, const std::vector<RobotFoot>& feet, const StanceFeetOptions& options);
+
+  // For the state the workspace holds (setQ, setU done) and the source's contact flags `planted` [feet]:
+  // which feet are held, and their rows. Returns how many feet are held.
+  int update(Workspace& workspace, const int64_t* planted);
+
+  // After update: [6 × held] rows (angular then linear, per held foot) and their wanted accelerations
+  // minus the velocity terms.
+  const Eigen::MatrixXd& jacobian() const { return jacobian_; }
+  const Eigen::VectorXd& acceleration() const { return acceleration_; }
+  bool held(size_t foot) const { return stance_[foot].held; }
+
+ private:
+  struct Stance {
+    bool held = false;
+    Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  // the sole centre's, on the floor (ground frame)
+    double yaw = 0.0;                                  // the heading it touched down with
+  };
+  StanceFeetOptions options_;
+  std::vector<int> foot_links_;
+  std::vector<std::vector<Eigen::Vector3d>> sole_points_;  // per foot, in its link frame
+  std::vector<Eigen::Vector3d> sole_centre_;               // per foot, in its link frame
+  std::vector<Stance> stance_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> foot_jacobian_;
+  Eigen::MatrixXd jacobian_;
+  Eigen::VectorXd acceleration_;
+};
+
+}  // namespace syn
