@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "stages/retarget/horizontal_speed.h"
+
 namespace syn {
 
 bool ContactDetectionOptions::IsValid(std::string* error) const {
@@ -44,25 +46,17 @@ FootContacts DetectContacts(const std::vector<std::vector<Eigen::Vector3d>>& foo
   result.ground = heights[index];
 
   const int64_t frames = result.frames;
-  const double half_window = 0.5 * options.speed_window;
   for (int f = 0; f < result.feet; ++f) {
     const std::vector<Eigen::Vector3d>& p = foot_positions[static_cast<size_t>(f)];
+    const std::vector<double> speeds = CentredHorizontalSpeeds(p, time_s, options.speed_window);
     bool planted = false;
-    int64_t before = 0, after = 0;  // window ends, moved along with t
     for (int64_t t = 0; t < frames; ++t) {
-      const double now = time_s[static_cast<size_t>(t)];
-      while (before < t && time_s[static_cast<size_t>(before)] < now - half_window) ++before;
-      if (after < t) after = t;
-      while (after + 1 < frames && time_s[static_cast<size_t>(after + 1)] <= now + half_window) ++after;
-      // At least one frame on each side, so the speed is a centred difference even at low frame rates.
-      const int64_t a = std::min(before, std::max<int64_t>(t - 1, 0)), b = std::max(after, std::min(t + 1, frames - 1));
       const Eigen::Vector3d& here = p[static_cast<size_t>(t)];
-      const Eigen::Vector3d &pa = p[static_cast<size_t>(a)], &pb = p[static_cast<size_t>(b)];
-      if (!here.allFinite() || !pa.allFinite() || !pb.allFinite() || b == a) {
+      const double speed = speeds[static_cast<size_t>(t)];
+      if (std::isnan(speed)) {  // the foot or a window end missing
         planted = false;
         continue;
       }
-      const double speed = (pb - pa).head<2>().norm() / (time_s[static_cast<size_t>(b)] - time_s[static_cast<size_t>(a)]);
       const double height = here.z() - result.ground;
       const double scale = planted ? options.release : 1.0;
       planted = height <= options.height * scale && speed <= options.speed * scale;

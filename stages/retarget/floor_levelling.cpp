@@ -6,6 +6,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "stages/retarget/horizontal_speed.h"
+
 namespace syn {
 
 bool FloorLevellingOptions::IsValid(std::string* error) const {
@@ -13,7 +15,7 @@ bool FloorLevellingOptions::IsValid(std::string* error) const {
     if (error != nullptr) *error = message;
     return false;
   };
-  if (!(still_speed > 0)) return fail("floor levelling: still_speed must be > 0 (m/s)");
+  if (!(still_speed > 0) || !(speed_window > 0)) return fail("floor levelling: still_speed and speed_window must be > 0");
   if (!(band > 0) || !(min_spread > 0) || !(max_residual > 0)) return fail("floor levelling: band, min_spread and max_residual must be > 0 (m)");
   if (!(max_tilt > 0 && max_tilt < M_PI / 2)) return fail("--level-floor-max-tilt must be in (0, 90) degrees");
   if (!(min_tilt >= 0 && min_tilt < max_tilt)) return fail("--level-floor-min-tilt must be in [0, --level-floor-max-tilt) degrees");
@@ -21,36 +23,12 @@ bool FloorLevellingOptions::IsValid(std::string* error) const {
   return true;
 }
 
-namespace {
-
-// Horizontal speed of each sample over a centred window of at least one frame each side (NaN where a
-// neighbour is missing).
-std::vector<double> HorizontalSpeed(const std::vector<Eigen::Vector3d>& p, const std::vector<double>& time_s) {
-  const int64_t frames = static_cast<int64_t>(p.size());
-  constexpr double kHalfWindow = 0.025;
-  std::vector<double> speed(p.size(), std::nan(""));
-  int64_t before = 0, after = 0;
-  for (int64_t t = 0; t < frames; ++t) {
-    const double now = time_s[static_cast<size_t>(t)];
-    while (before < t && time_s[static_cast<size_t>(before)] < now - kHalfWindow) ++before;
-    if (after < t) after = t;
-    while (after + 1 < frames && time_s[static_cast<size_t>(after + 1)] <= now + kHalfWindow) ++after;
-    const int64_t a = std::min(before, std::max<int64_t>(t - 1, 0)), b = std::max(after, std::min(t + 1, frames - 1));
-    const Eigen::Vector3d &pa = p[static_cast<size_t>(a)], &pb = p[static_cast<size_t>(b)];
-    if (b == a || !pa.allFinite() || !pb.allFinite() || !p[static_cast<size_t>(t)].allFinite()) continue;
-    speed[static_cast<size_t>(t)] = (pb - pa).head<2>().norm() / (time_s[static_cast<size_t>(b)] - time_s[static_cast<size_t>(a)]);
-  }
-  return speed;
-}
-
-}  // namespace
-
 FloorPlane EstimateFloorPlane(const std::vector<std::vector<Eigen::Vector3d>>& foot_positions,
                               const std::vector<double>& time_s, const FloorLevellingOptions& options) {
   FloorPlane plane;
   std::vector<Eigen::Vector3d> samples;
   for (const std::vector<Eigen::Vector3d>& foot : foot_positions) {
-    const std::vector<double> speed = HorizontalSpeed(foot, time_s);
+    const std::vector<double> speed = CentredHorizontalSpeeds(foot, time_s, options.speed_window);
     for (size_t t = 0; t < foot.size(); ++t) {
       if (speed[t] < options.still_speed) samples.push_back(foot[t]);
     }
@@ -73,17 +51,22 @@ FloorPlane EstimateFloorPlane(const std::vector<std::vector<Eigen::Vector3d>>& f
     if (std::sqrt(std::max(axes.eigenvalues()[i], 0.0)) >= options.min_spread) directions.push_back(axes.eigenvectors().col(i));
   }
   const int columns = 1 + static_cast<int>(directions.size());
+  Eigen::VectorXd row(columns);
+  const auto design_row = [&](const Eigen::Vector3d& sample) -> const Eigen::VectorXd& {  // 1, then the offsets along the directions
+    row[0] = 1;
+    for (size_t d = 0; d < directions.size(); ++d) row[static_cast<Eigen::Index>(d + 1)] = directions[d].dot(sample.head<2>() - mean);
+    return row;
+  };
   std::vector<bool> kept(samples.size(), true);
   Eigen::VectorXd coefficients = Eigen::VectorXd::Zero(columns);  // height at the mean, then slopes
+  // A fit, then three refits without the samples more than `band` above the last one.
   for (int round = 0; round < 4; ++round) {
     Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(columns, columns);
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(columns);
-    Eigen::VectorXd row(columns);
     int64_t count = 0;
     for (size_t i = 0; i < samples.size(); ++i) {
       if (!kept[i]) continue;
-      row[0] = 1;
-      for (size_t d = 0; d < directions.size(); ++d) row[static_cast<Eigen::Index>(d + 1)] = directions[d].dot(samples[i].head<2>() - mean);
+      design_row(samples[i]);
       normal += row * row.transpose();
       rhs += row * samples[i].z();
       ++count;
@@ -91,11 +74,7 @@ FloorPlane EstimateFloorPlane(const std::vector<std::vector<Eigen::Vector3d>>& f
     if (count < 10) break;
     coefficients = normal.ldlt().solve(rhs);
     if (round == 3) break;
-    for (size_t i = 0; i < samples.size(); ++i) {
-      row[0] = 1;
-      for (size_t d = 0; d < directions.size(); ++d) row[static_cast<Eigen::Index>(d + 1)] = directions[d].dot(samples[i].head<2>() - mean);
-      kept[i] = samples[i].z() - row.dot(coefficients) <= options.band;
-    }
+    for (size_t i = 0; i < samples.size(); ++i) kept[i] = samples[i].z() - design_row(samples[i]).dot(coefficients) <= options.band;
   }
   Eigen::Vector2d gradient = Eigen::Vector2d::Zero();  // dz/dx, dz/dy
   for (size_t d = 0; d < directions.size(); ++d) gradient += coefficients[static_cast<Eigen::Index>(d + 1)] * directions[d];

@@ -33,6 +33,7 @@ namespace syn {
 struct FloorLevellingOptions {
   bool enabled = true;
   double still_speed = 0.1;   // m/s horizontal: a foot landmark this slow is standing
+  double speed_window = 0.05;  // s, centred window of that speed (contact detection's)
   double band = 0.015;        // m above the plane: kept in the refits
   double min_spread = 0.15;   // m (standard deviation along a direction) to fit the slope along it
   double max_tilt = 0.05;     // rad (2.9°): more is not a floor the capture was calibrated on

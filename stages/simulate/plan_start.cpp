@@ -7,6 +7,25 @@
 #include <Eigen/Geometry>
 
 namespace syn {
+namespace {
+
+using LegJoints = std::vector<const ModelJoint*>;
+
+// The leg's columns of a foot's frame Jacobian.
+Eigen::Matrix<double, 6, 6> LegColumns(const Eigen::Matrix<double, 6, Eigen::Dynamic>& jacobian, const LegJoints& leg) {
+  Eigen::Matrix<double, 6, 6> columns;
+  for (int c = 0; c < 6; ++c) columns.col(c) = jacobian.col(leg[static_cast<size_t>(c)]->u_index);
+  return columns;
+}
+
+// Damped least squares: the joint change that moves the foot by `wanted`, bounded where the leg is singular
+// (a straight knee).
+Vector6d DampedSolve(const Eigen::Matrix<double, 6, 6>& columns, const Vector6d& wanted) {
+  const Eigen::Matrix<double, 6, 6> normal = columns.transpose() * columns + 1e-4 * Eigen::Matrix<double, 6, 6>::Identity();
+  return normal.ldlt().solve(columns.transpose() * wanted);
+}
+
+}  // namespace
 
 void StartOnThePlan(const Model& model, const RobotMap& map, const BalanceShift& plan, Workspace& workspace,
                     Eigen::VectorXd& q, Eigen::VectorXd& u) {
@@ -23,7 +42,7 @@ void StartOnThePlan(const Model& model, const RobotMap& map, const BalanceShift&
     velocities.push_back(jacobian * u);
   }
   // Each foot's leg: the joints whose child link is on that foot's chain.
-  std::vector<std::vector<const ModelJoint*>> legs(feet.size());
+  std::vector<LegJoints> legs(feet.size());
   for (size_t f = 0; f < feet.size(); ++f) {
     std::string link = map.feet[f].link;
     for (bool found = true; found;) {
@@ -44,17 +63,13 @@ void StartOnThePlan(const Model& model, const RobotMap& map, const BalanceShift&
     for (size_t f = 0; f < feet.size(); ++f) {
       if (legs[f].size() != 6) continue;
       const Eigen::Isometry3d pose = workspace.findLinkPose(feet[f]);
+      const Eigen::AngleAxisd turn(poses[f].linear() * pose.linear().transpose());
       Vector6d error;
-      error.head<3>() = Eigen::AngleAxisd(poses[f].linear() * pose.linear().transpose()).angle() *
-                        Eigen::AngleAxisd(poses[f].linear() * pose.linear().transpose()).axis();
+      error.head<3>() = turn.angle() * turn.axis();
       error.tail<3>() = poses[f].translation() - pose.translation();
       workspace.calcFrameJacobian(feet[f], Eigen::Vector3d::Zero(), jacobian);
-      Eigen::Matrix<double, 6, 6> leg;
-      for (int c = 0; c < 6; ++c) leg.col(c) = jacobian.col(legs[f][static_cast<size_t>(c)]->u_index);
-      // Damped least squares, each step at most 0.1 rad: a straight knee makes the leg singular.
-      const Eigen::Matrix<double, 6, 6> normal = leg.transpose() * leg + 1e-4 * Eigen::Matrix<double, 6, 6>::Identity();
-      Vector6d step = normal.ldlt().solve(leg.transpose() * error);
-      if (step.cwiseAbs().maxCoeff() > 0.1) step *= 0.1 / step.cwiseAbs().maxCoeff();
+      Vector6d step = DampedSolve(LegColumns(jacobian, legs[f]), error);
+      if (step.cwiseAbs().maxCoeff() > 0.1) step *= 0.1 / step.cwiseAbs().maxCoeff();  // at most 0.1 rad a step
       for (int c = 0; c < 6; ++c) q[legs[f][static_cast<size_t>(c)]->q_index] += step[c];
     }
   }
@@ -62,14 +77,9 @@ void StartOnThePlan(const Model& model, const RobotMap& map, const BalanceShift&
   for (size_t f = 0; f < feet.size(); ++f) {
     if (legs[f].size() != 6) continue;
     workspace.calcFrameJacobian(feet[f], Eigen::Vector3d::Zero(), jacobian);
-    Eigen::Matrix<double, 6, 6> leg;
-    for (int c = 0; c < 6; ++c) {
-      leg.col(c) = jacobian.col(legs[f][static_cast<size_t>(c)]->u_index);
-      u[legs[f][static_cast<size_t>(c)]->u_index] = 0;
-    }
-    const Vector6d rest = velocities[f] - jacobian * u;
-    const Eigen::Matrix<double, 6, 6> normal = leg.transpose() * leg + 1e-4 * Eigen::Matrix<double, 6, 6>::Identity();
-    const Vector6d leg_velocity = normal.ldlt().solve(leg.transpose() * rest);
+    for (const ModelJoint* joint : legs[f]) u[joint->u_index] = 0;
+    // The leg's velocities that give the foot its old velocity on top of what the rest of the body gives it.
+    const Vector6d leg_velocity = DampedSolve(LegColumns(jacobian, legs[f]), velocities[f] - jacobian * u);
     for (int c = 0; c < 6; ++c) u[legs[f][static_cast<size_t>(c)]->u_index] = leg_velocity[c];
   }
 }

@@ -6,8 +6,6 @@
 #include <sstream>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Geometry>
-#include <Eigen/LU>
 
 #include "common/error.h"
 #include "stages/simulate/balance_controller.h"

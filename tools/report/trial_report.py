@@ -201,10 +201,10 @@ def fit_human_alignment(human, motion, markerset_path):
                           human["positions"][:, indexes].mean(axis=1)))
     # The capture turned as syn-retarget turned it to level its floor, then the yaw and scale fitted.
     floor = motion.get("floor_rotation", np.eye(3))
-    pairs = [(landmark, p @ floor.T) for landmark, p in pairs]
+    levelled = [(landmark, p @ floor.T) for landmark, p in pairs]
     rotation, scale, heading = np.eye(3), 1.0, 0.0
     p_all, q_all = [], []
-    for landmark, p in pairs:
+    for landmark, p in levelled:
         q = motion["landmark_targets"][:, landmark, :3]
         valid = np.isfinite(p).all(axis=1) & np.isfinite(q).all(axis=1)
         if valid.sum() > 1:
@@ -218,15 +218,15 @@ def fit_human_alignment(human, motion, markerset_path):
         spread = np.sqrt((dp ** 2).sum())
         scale = float(np.sqrt((dq ** 2).sum()) / spread) if spread > 0 else 1.0
     offset = np.zeros(3)
-    if pairs:
-        landmark, p = pairs[0]
+    if levelled:
+        landmark, p = levelled[0]
         q = motion["landmark_targets"][:, landmark, :3]
         valid = np.isfinite(p).all(axis=1) & np.isfinite(q).all(axis=1)
         if valid.any():
             offset = q[valid].mean(axis=0) - scale * rotation @ p[valid].mean(axis=0)
     # "rotation" takes capture coordinates to the robot's: the floor's turn, then the heading.
     return {"rotation": rotation @ floor, "scale": scale, "heading_deg": float(np.degrees(heading)), "offset": offset,
-            "pairs": [(landmark, p @ floor) for landmark, p in pairs]}
+            "pairs": pairs}
 
 
 def write_trial(trial, markers_path, markerset_path, motion_path, segments_path, urdf_path, robot_map_path, metrics_path, out_dir):
