@@ -11,6 +11,7 @@
 #include "stages/simulate/balance_controller.h"
 #include "stages/simulate/contact_consistent_torques.h"
 #include "stages/simulate/ground_contact.h"
+#include "stages/simulate/joint_stops.h"
 #include "stages/simulate/plan_start.h"
 #include "stages/simulate/stance_feet.h"
 
@@ -130,7 +131,8 @@ std::string SimulateSummary::FullReport() const {
     out << "\n  ground: deepest sole point " << deepest_penetration_mm << " mm below the floor, lowest pelvis "
         << lowest_pelvis_ratio * 100 << " % of the reference's height, peak vertical force " << peak_vertical_force_n
         << " N; base wrench no sole force explains (RMS): " << unexplained_force_rms_n << " N, "
-        << unexplained_torque_rms_nm << " N·m";
+        << unexplained_torque_rms_nm << " N·m; joints on their mechanical stops in " << stopped_joint_steps
+        << " joint-steps, at most " << worst_limit_excess_deg << " deg past a limit";
     if (balance_corrected_frames >= 0) {
       out << "\n  balance plan: the reference's zero-moment point moved into the feet in " << balance_corrected_frames
           << " of " << frames << " frames, by up to " << balance_largest_zmp_correction_m * 1000
@@ -166,10 +168,12 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   std::optional<GroundContact> ground_contact;
   std::optional<ContactConsistentTorques> distribution;
   std::optional<StanceFeet> stance_feet;
+  std::optional<JointStops> joint_stops;
   // The source's planted flags per map foot (zero where the motion has none).
   std::vector<int> contact_column(map.feet.size(), -1);
   if (ground) {
     ground_contact.emplace(model, map.feet, GroundContactOptions{});
+    joint_stops.emplace(model, JointStopOptions{});
     ContactForceOptions planned;
     planned.max_height = kPlannedContactHeight;
     distribution.emplace(model, map.feet, planned, options.controller.effort_limits);
@@ -261,6 +265,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     if (ground) {
       saturated += distribution->apply(workspace, controller, planted.data(), tau);
       ground_contact->calcForces(workspace, contact_forces, contact_stiffness, contact_damping);
+      summary.stopped_joint_steps += joint_stops->add(q, u, contact_forces, contact_stiffness, contact_damping);
       // Linearly implicit in the contact forces: (A + h B + h² K) u̇ = τ + f − b − g − h K u, the step
       // semi-implicit Euler takes with the forces at its end (u + h u̇, q + h (u + h u̇)) to first order.
       applied = tau + contact_forces - controller.biasForces();
@@ -284,6 +289,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     summary.deepest_penetration_mm = 0;
     summary.lowest_pelvis_ratio = std::numeric_limits<double>::infinity();
     summary.peak_vertical_force_n = 0;
+    summary.stopped_joint_steps = 0;
+    summary.worst_limit_excess_deg = 0;
   }
   double unexplained_force_sq = 0, unexplained_torque_sq = 0;
   for (int64_t t = 0; t < frames; ++t) {
@@ -331,6 +338,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       }
       if (ground) {
         summary.deepest_penetration_mm = std::max(summary.deepest_penetration_mm, ground_contact->deepestPenetration() * 1000);
+        summary.worst_limit_excess_deg = std::max(summary.worst_limit_excess_deg, joint_stops->worstExcess(q) * kDegreesPerRadian);
         // The base's position is q[4..6] (after its quaternion); the reference's at the frame ahead.
         const double fraction = static_cast<double>(step + 1) / static_cast<double>(steps);
         const double reference = (1 - fraction) * input.q[static_cast<size_t>(t * nq + 6)] + fraction * input.q[static_cast<size_t>((t + 1) * nq + 6)];

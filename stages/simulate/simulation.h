@@ -65,6 +65,10 @@ struct SimulateSummary {
   double unexplained_force_rms_n = -1;
   double unexplained_torque_rms_nm = -1;
   double peak_vertical_force_n = -1;
+  // Ground mode: joint-steps where a joint pressed a mechanical stop (joint_stops.h), and the farthest any
+  // joint went past its URDF limit (deg).
+  int64_t stopped_joint_steps = -1;
+  double worst_limit_excess_deg = -1;
   // Ground mode with balance: the frames whose reference zero-moment point the plan moved into the feet,
   // the largest such move and the largest shift of the body above the legs (m).
   int64_t balance_corrected_frames = -1;

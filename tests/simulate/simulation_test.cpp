@@ -1,9 +1,11 @@
 // syn-simulate on the real G1 and a real CMU walk: the dynamics integrate conservatively, and the
 // controller reproduces the kinematic mapping.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -229,13 +231,46 @@ TEST_F(GroundMode, BalanceCatchesASideShove) {
 }
 
 // Issue 18's ground mode on every shared CMU walk (index.csv's walk class) retargeted onto G1: how many stay
-// up (pelvis never under 60 % of the reference's), printed with each fall's time. Not every walk yet: on
-// 2026-11-27 4 of 21 (02_01, 02_02, 07_01, 07_06; 02_01 down to 68 % of its pelvis height), the others falling
-// after 0.5-2.9 s; without stepping (--step-adjustment 0) or without the balance plan (--no-balance), none;
+// up (pelvis never under 60 % of the reference's), printed with each fall's time, and that those that do
+// stay inside the URDF's joint ranges (checked on the recorded q). Not every walk yet: on 2026-11-27
+// (session 24, with the joints' mechanical stops, joint_stops.h) 4 of 21 (02_02, 07_01, 08_01, 10_04), the
+// others falling after 0.36-3.9 s. Before the stops (session 23) 4 of 21 also "stayed up" (02_01, 02_02,
+// 07_01, 07_06), but on ankle rolls 8-105° past G1's ±15° in 14-40 % of their frames (02_01's left ankle
+// turned round 2.5 times), a balance no G1 has; then without stepping (--step-adjustment 0) or without the balance plan (--no-balance), none;
 // before the plan was freed at its start and the simulation started on it, with neither the standing-feet
 // level nor stepping, none (0.58-2.05 s). Which walks
 // stay up changes with any parameter (stepping capped at 0.08/0.15/0.2/0.25 m: 0/4/0/2), so the guard is
 // below today's count. Subject 03's walks are over uneven terrain, which a flat floor cannot give them.
+// rad: how far past its URDF limit a joint pressing its stop may go (the stops are stiff springs, not
+// constraints: 1.3° at most on the walks that stay up).
+constexpr double kStopTolerance = 2.0 * M_PI / 180.0;
+
+// The farthest any limited joint of `motion` goes past the model's limits over its frames (rad), and a
+// description of where.
+double WorstLimitExcess(const Model& model, const MotionData& motion, std::string* where = nullptr) {
+  double worst = 0.0;
+  for (const ModelJoint& joint : model.joints()) {
+    if (joint.q_index < 0 || joint.type == "free") continue;
+    const double lower = model.qLower()[joint.q_index], upper = model.qUpper()[joint.q_index];
+    if (!std::isfinite(lower) || !std::isfinite(upper)) continue;
+    for (int64_t t = 0; t < motion.frames(); ++t) {
+      const double q = motion.q[static_cast<size_t>(t * motion.nq() + joint.q_index)];
+      const double excess = std::max(q - upper, lower - q);
+      if (excess > worst) {
+        worst = excess;
+        if (where) *where = joint.name + " at frame " + std::to_string(t);
+      }
+    }
+  }
+  return worst;
+}
+
+std::string LimitExcess(const Model& model, const MotionData& motion) {
+  std::string where = "every joint inside its limits";
+  const double worst = WorstLimitExcess(model, motion, &where);
+  return worst > 0 ? std::to_string(worst * 180.0 / M_PI) + " deg past a limit, " + where : where;
+}
+
 TEST_F(GroundMode, SomeCmuWalksStayUp) {
 #ifdef SYN_SANITIZED_BUILD
   GTEST_SKIP() << "the real-data ground-mode sweep runs in the Release test run, not under the sanitizers";
@@ -253,7 +288,9 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
     try {
       const SimulationResult result = Simulate(walk, cells[1], model, map, options);
       ++up;
-      std::printf("%s: stays up (lowest pelvis %.2f of the reference's)\n", cells[1].c_str(), result.summary.lowest_pelvis_ratio);
+      std::printf("%s: stays up (lowest pelvis %.2f of the reference's; %s)\n", cells[1].c_str(), result.summary.lowest_pelvis_ratio,
+                  LimitExcess(model, result.motion).c_str());
+      EXPECT_LE(WorstLimitExcess(model, result.motion), kStopTolerance) << cells[1] << ": a joint past its URDF limit";
     } catch (const DataError& error) {
       std::printf("%s: %s\n", cells[1].c_str(), error.what());
     }
