@@ -29,9 +29,10 @@
 // is all the zero-moment point has, and G1's is 5 cm wide. A capture-point error of 2 cm at the start of
 // a 0.5 s stance grows to 15 cm (e^{ωT} ≈ 7) once the zero-moment point sits on the sole's edge. So each
 // swinging foot lands where the plan would have it relative to the capture point: its target moves by the
-// capture-point error predicted at its touchdown (the source's next planted frame), the zero-moment point
-// held where it is commanded, e_T = (e − Δp) e^{ω T} + Δp, capped at `max_step_shift` and faded in over
-// the swing (smoothstep); when it lands, the whole plan (centre of mass, zero-moment point and every task)
+// capture-point error predicted at its touchdown (the source's next planted frame) under the feedback
+// above with the zero-moment point clamped into the present support, ė = ω (e − Δp(e)) (an error the
+// ankles can return predicts no shift, one past the sole's edge runs away), capped at `max_step_shift`
+// and faded in over the swing (smoothstep); when it lands, the whole plan (centre of mass, zero-moment point and every task)
 // walks on shifted by that landing shift. Without it no CMU walk stayed up.
 #pragma once
 
@@ -85,7 +86,11 @@ class BalanceController {
   std::vector<Eigen::Vector2d> landing_shift_;
   Eigen::Vector2d plan_offset_ = Eigen::Vector2d::Zero();
   void step(double now, size_t frame, const int64_t* planted, const Eigen::Vector2d& capture_error,
-            const Eigen::Vector2d& zmp_error, double omega, std::vector<TaskReference>& references);
+            const Eigen::Vector2d& zmp_plan, double omega, std::vector<TaskReference>& references);
+  // The capture point's error from the plan `remaining` seconds ahead, under the feedback above with the
+  // zero-moment point clamped into the present support (hull_).
+  Eigen::Vector2d PredictedCaptureError(const Eigen::Vector2d& capture_error, const Eigen::Vector2d& zmp_plan, double omega,
+                                        double remaining) const;
   std::vector<std::vector<Eigen::Vector3d>> sole_points_;    // per foot, in its link frame
   std::vector<std::vector<Eigen::Vector2d>> touching_;       // per foot, its sole points on the floor (x, y)
   std::vector<bool> standing_;

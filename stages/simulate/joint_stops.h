@@ -19,8 +19,10 @@
 namespace syn {
 
 struct JointStopOptions {
-  // N·m/rad: a joint pressed by 50 N·m (G1's ankle) stops 10 mrad past its limit.
-  double stiffness = 20000.0;
+  // N·m/rad: a joint pressed by 50 N·m (G1's ankle roll) stops 0.5 mrad past its limit. At 2·10⁴ the CMU
+  // walks' ankle rolls went up to 3.1° past theirs on landing and the robots that stayed up sagged to 71 %
+  // of their pelvis height; at 10⁵, 1.1° and 98 %.
+  double stiffness = 100000.0;
   double damping = 20.0;  // N·m·s/rad
 };
 

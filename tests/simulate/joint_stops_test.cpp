@@ -79,7 +79,7 @@ TEST(JointStops, PushBackPastALimitAndNeverPull) {
 // its limit, the stop in a linearly implicit step as syn-simulate's ground mode takes it
 // ((A + h B + h² K) u̇ = τ + f − b − h K u): the joint comes to rest at the limit plus 50 / k; without the
 // stop it runs far past. (The light foot, 50 rad/s after its first step, overshoots by 0.15 rad before the
-// stop catches it: a stop engages a step late. On the CMU walks that stay up the joints stay within 1.3°
+// stop catches it: a stop engages a step late. On the CMU walks that stay up the joints stay within 1.2°
 // of their limits: simulation_test.cpp.)
 TEST(JointStops, HoldAJointDrivenIntoItsLimit) {
   const Model model = WeldedG1();

@@ -233,8 +233,8 @@ TEST_F(GroundMode, BalanceCatchesASideShove) {
 // Issue 18's ground mode on every shared CMU walk (index.csv's walk class) retargeted onto G1: how many stay
 // up (pelvis never under 60 % of the reference's), printed with each fall's time, and that those that do
 // stay inside the URDF's joint ranges (checked on the recorded q). Not every walk yet: on 2026-11-27
-// (session 24, with the joints' mechanical stops, joint_stops.h) 4 of 21 (02_02, 07_01, 08_01, 10_04), the
-// others falling after 0.36-3.9 s. Before the stops (session 23) 4 of 21 also "stayed up" (02_01, 02_02,
+// (session 24, with the joints' mechanical stops, joint_stops.h) 4 of 21 (02_02, 07_01, 08_01, 10_04; pelvis
+// never under 98 % of its reference height), the others falling after 0.34-3.4 s. Before the stops (session 23) 4 of 21 also "stayed up" (02_01, 02_02,
 // 07_01, 07_06), but on ankle rolls 8-105° past G1's ±15° in 14-40 % of their frames (02_01's left ankle
 // turned round 2.5 times), a balance no G1 has; then without stepping (--step-adjustment 0) or without the balance plan (--no-balance), none;
 // before the plan was freed at its start and the simulation started on it, with neither the standing-feet
@@ -242,7 +242,7 @@ TEST_F(GroundMode, BalanceCatchesASideShove) {
 // stay up changes with any parameter (stepping capped at 0.08/0.15/0.2/0.25 m: 0/4/0/2), so the guard is
 // below today's count. Subject 03's walks are over uneven terrain, which a flat floor cannot give them.
 // rad: how far past its URDF limit a joint pressing its stop may go (the stops are stiff springs, not
-// constraints: 1.3° at most on the walks that stay up).
+// constraints: 1.2° at most on the walks that stay up).
 constexpr double kStopTolerance = 2.0 * M_PI / 180.0;
 
 // The farthest any limited joint of `motion` goes past the model's limits over its frames (rad), and a
