@@ -11,6 +11,12 @@
 // Stiffness: G1's 35 kg on both feet' eight points sinks each about 0.8 mm at k = 2·10⁶ N/m^1.5; the
 // contact's natural frequency (about 140 rad/s) stays well inside what a 1 kHz semi-implicit Euler step
 // resolves (ω h ≈ 0.14).
+//
+// Dissipation: c = 1 s/m, a restitution of about 0.3 at a 1 m/s touchdown (rubber on a hard floor). At
+// 10 s/m a point leaving the floor faster than 1/(1.5 c) = 0.07 m/s carried no force however deep it was,
+// the linearly implicit step overshot that kink, and a standing sole's force switched between 0 and
+// 20-43 kN every step with the sole 13 mm deep (CMU 02_02 onto G1 in ground mode); at 1 s/m the walks'
+// peak vertical force is 1.9-4.5 body weights and their soles at most 4.5 mm deep.
 #pragma once
 
 #include <vector>
@@ -24,7 +30,7 @@ namespace syn {
 
 struct GroundContactOptions {
   double stiffness = 2e6;            // k, N/m^1.5 per sole point
-  double dissipation = 10.0;         // c, s/m (Hunt–Crossley)
+  double dissipation = 1.0;          // c, s/m (Hunt–Crossley; see above)
   double friction = 0.8;             // μ, the default
   double tangential_stiffness = 1e5;  // k_t, N/m per point
   double tangential_damping = 600;   // b_t, N·s/m per point

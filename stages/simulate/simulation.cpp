@@ -265,7 +265,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     if (ground) {
       saturated += distribution->apply(workspace, controller, planted.data(), tau);
       ground_contact->calcForces(workspace, contact_forces, contact_stiffness, contact_damping);
-      summary.stopped_joint_steps += joint_stops->add(q, u, contact_forces, contact_stiffness, contact_damping);
+      summary.stopped_joint_steps += joint_stops->add(q, u, dt, contact_forces, contact_stiffness, contact_damping);
       // Linearly implicit in the contact forces: (A + h B + h² K) u̇ = τ + f − b − g − h K u, the step
       // semi-implicit Euler takes with the forces at its end (u + h u̇, q + h (u + h u̇)) to first order.
       applied = tau + contact_forces - controller.biasForces();

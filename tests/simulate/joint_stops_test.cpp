@@ -1,6 +1,7 @@
 // The joints' mechanical stops of ground mode (joint_stops.h): a joint past its URDF limit is pushed back
-// by the stop's spring and damper and never pulled, a joint inside its range feels nothing, and a G1 ankle
-// roll driven hard past its limit under the implicit step stays within a few milliradians of it.
+// by the stop's spring and damper and never pulled, a joint inside its range feels nothing unless it
+// crosses within the step, and a G1 ankle roll driven hard into its limit under the implicit step settles
+// a fraction of a milliradian past it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -49,14 +50,14 @@ TEST(JointStops, PushBackPastALimitAndNeverPull) {
   // Inside the range, moving fast: nothing.
   q[roll.q_index] = 0.5 * (upper + lower), u[roll.u_index] = 10.0;
   Forces inside(model.nu());
-  EXPECT_EQ(stops.add(q, u, inside.generalized, inside.stiffness, inside.damping), 0);
+  EXPECT_EQ(stops.add(q, u, 0.0, inside.generalized, inside.stiffness, inside.damping), 0);
   EXPECT_EQ(inside.generalized.norm(), 0.0);
 
   // 0.01 rad past the upper limit, at rest: the spring's torque, pushing down, and its stiffness and damping
   // on the diagonal.
   q[roll.q_index] = upper + 0.01, u[roll.u_index] = 0.0;
   Forces past(model.nu());
-  EXPECT_EQ(stops.add(q, u, past.generalized, past.stiffness, past.damping), 1);
+  EXPECT_EQ(stops.add(q, u, 0.0, past.generalized, past.stiffness, past.damping), 1);
   EXPECT_NEAR(past.generalized[roll.u_index], -options.stiffness * 0.01, 1e-9);
   EXPECT_EQ(past.stiffness(roll.u_index, roll.u_index), options.stiffness);
   EXPECT_EQ(past.damping(roll.u_index, roll.u_index), options.damping);
@@ -65,13 +66,27 @@ TEST(JointStops, PushBackPastALimitAndNeverPull) {
   // Past it but leaving fast: the damper would pull it back out, so the stop gives nothing.
   u[roll.u_index] = -options.stiffness * 0.01 / options.damping * 2.0;
   Forces leaving(model.nu());
-  EXPECT_EQ(stops.add(q, u, leaving.generalized, leaving.stiffness, leaving.damping), 0);
+  EXPECT_EQ(stops.add(q, u, 0.0, leaving.generalized, leaving.stiffness, leaving.damping), 0);
   EXPECT_EQ(leaving.generalized[roll.u_index], 0.0);
+
+  // Still 0.01 rad inside but a 1 ms step from crossing at 20 rad/s: engaged ahead of the crossing, its
+  // stiffness and damping in the implicit step (its spring does not yet push); moving away, not engaged.
+  q[roll.q_index] = upper - 0.01, u[roll.u_index] = 20.0;
+  Forces approaching(model.nu());
+  EXPECT_EQ(stops.add(q, u, 1e-3, approaching.generalized, approaching.stiffness, approaching.damping), 1);
+  EXPECT_LE(approaching.generalized[roll.u_index], 0.0);
+  EXPECT_EQ(approaching.stiffness(roll.u_index, roll.u_index), options.stiffness);
+  u[roll.u_index] = -20.0;
+  Forces away(model.nu());
+  EXPECT_EQ(stops.add(q, u, 1e-3, away.generalized, away.stiffness, away.damping), 0);
+  u[roll.u_index] = 20.0;
+  Forces no_step(model.nu());
+  EXPECT_EQ(stops.add(q, u, 0.0, no_step.generalized, no_step.stiffness, no_step.damping), 0);
 
   // Mirrored at the lower limit: pushes up.
   q[roll.q_index] = lower - 0.02, u[roll.u_index] = 0.0;
   Forces below(model.nu());
-  EXPECT_EQ(stops.add(q, u, below.generalized, below.stiffness, below.damping), 1);
+  EXPECT_EQ(stops.add(q, u, 0.0, below.generalized, below.stiffness, below.damping), 1);
   EXPECT_NEAR(below.generalized[roll.u_index], options.stiffness * 0.02, 1e-9);
 }
 
@@ -101,7 +116,7 @@ TEST(JointStops, HoldAJointDrivenIntoItsLimit) {
       workspace.setQ(q);
       workspace.setU(u);
       Forces stop(model.nu());
-      if (with_stops) stops.add(q, u, stop.generalized, stop.stiffness, stop.damping);
+      if (with_stops) stops.add(q, u, h, stop.generalized, stop.stiffness, stop.damping);
       workspace.calcMassMatrix(mass);
       workspace.calcInverseDynamics(Eigen::VectorXd::Zero(model.nu()), bias);  // b(q, u): the velocity terms
       const Eigen::MatrixXd implicit = mass + h * stop.damping + h * h * stop.stiffness;
