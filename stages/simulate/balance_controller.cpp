@@ -12,6 +12,7 @@ constexpr double kMinVerticalShare = 0.2, kMaxVerticalShare = 3.0;
 
 // s: the step of the capture-point prediction stepping lands a foot by (a swing lasts 0.3-0.6 s).
 constexpr double kPredictionStep = 0.01;
+constexpr double kFarBeyondReach = 100.0;  // m
 
 }  // namespace
 
@@ -148,6 +149,9 @@ Eigen::Vector2d BalanceController::PredictedCaptureError(const Eigen::Vector2d& 
   for (int i = 0; i < steps; ++i) {
     const Eigen::Vector2d zmp_error = ClosestInPolygon(zmp_plan + gain * error, hull_) - zmp_plan;
     error += h * omega * (error - zmp_error);
+    // Far past any step's reach already (the shift is capped): stop before a long swing (a dance's foot in
+    // the air for seconds) overflows it.
+    if (error.squaredNorm() > kFarBeyondReach * kFarBeyondReach) break;
   }
   return error;
 }

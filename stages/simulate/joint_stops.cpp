@@ -16,7 +16,7 @@ JointStops::JointStops(const Model& model, const JointStopOptions& options) : op
 
 int JointStops::add(const Eigen::VectorXd& q, const Eigen::VectorXd& u, double step, Eigen::VectorXd& forces,
                     Eigen::MatrixXd& stiffness, Eigen::MatrixXd& damping) const {
-  int pushing = 0;
+  int engaged_stops = 0;
   for (const Stop& stop : stops_) {
     const double position = q[stop.q_index], velocity = u[stop.u_index], ahead = position + step * velocity;
     // Engaged past a limit while it pushes, or a step ahead of it while the joint moves into it: the stop
@@ -36,9 +36,9 @@ int JointStops::add(const Eigen::VectorXd& q, const Eigen::VectorXd& u, double s
     forces[stop.u_index] += torque;
     stiffness(stop.u_index, stop.u_index) += options_.stiffness;
     damping(stop.u_index, stop.u_index) += options_.damping;
-    ++pushing;
+    ++engaged_stops;
   }
-  return pushing;
+  return engaged_stops;
 }
 
 double JointStops::worstExcess(const Eigen::VectorXd& q) const {
