@@ -100,6 +100,22 @@ Eigen::Vector2d ClosestInPolygon(const Eigen::Vector2d& p, const std::vector<Eig
   return best;
 }
 
+std::vector<const ModelJoint*> FootChain(const Model& model, const std::string& foot_link) {
+  std::vector<const ModelJoint*> chain;
+  std::string link = foot_link;
+  for (bool found = true; found;) {
+    found = false;
+    for (const ModelJoint& joint : model.joints()) {
+      if (joint.child != link || joint.type == "free") continue;
+      chain.push_back(&joint);
+      link = joint.parent;
+      found = true;
+      break;
+    }
+  }
+  return chain;
+}
+
 namespace {
 
 // Each vertex moved `margin` towards the centroid (at most to it): the polygon the planned ZMP keeps to.
@@ -118,21 +134,13 @@ void Shrink(std::vector<Eigen::Vector2d>& hull, double margin) {
 // feet, follow half-way.
 double LegLinks(const Model& model, const RobotMap& map, std::vector<bool>& leg_link) {
   leg_link.assign(model.linkNames().size(), false);
-  const int base_link = model.freeBaseLink();
-  const std::string base = base_link >= 0 ? model.linkNames()[static_cast<size_t>(base_link)] : std::string();
   std::vector<std::string> legs;
   for (const RobotFoot& foot : map.feet) {
-    std::string link = foot.link;
-    while (!link.empty() && link != base) {
-      const int index = model.findLinkIndex(link);
+    for (const ModelJoint* joint : FootChain(model, foot.link)) {
+      const int index = model.findLinkIndex(joint->child);
       if (index < 0 || leg_link[static_cast<size_t>(index)]) break;
       leg_link[static_cast<size_t>(index)] = true;
-      legs.push_back(link);
-      std::string parent;
-      for (const ModelJoint& joint : model.joints()) {
-        if (joint.child == link) parent = joint.parent;
-      }
-      link = parent;
+      legs.push_back(joint->child);
     }
   }
   const RobotDescription urdf = ParseUrdf(ReadFileText(model.sourcePath()), model.sourcePath());

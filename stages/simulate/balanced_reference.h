@@ -26,6 +26,7 @@
 // plan's centre of mass, zero-moment point and momentum are what BalanceController steers to.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -80,6 +81,10 @@ void ConvexHull(std::vector<Eigen::Vector2d>& points, std::vector<Eigen::Vector2
 // The point of the convex polygon `hull` (counter-clockwise; 1 or 2 points for a point or a segment)
 // nearest to p: p itself when inside.
 [[nodiscard]] Eigen::Vector2d ClosestInPolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& hull);
+
+// The joints from the link `foot_link` up its chain to the root or the floating base (fixed joints
+// included, the added free joint not), foot first.
+[[nodiscard]] std::vector<const ModelJoint*> FootChain(const Model& model, const std::string& foot_link);
 
 // The shift for `motion` (q, u, udot; contact flags if it has them) on `model` with `map`'s feet.
 [[nodiscard]] BalanceShift PlanBalanceShift(const MotionData& motion, const Model& model, const RobotMap& map,

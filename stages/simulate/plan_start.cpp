@@ -41,19 +41,11 @@ void StartOnThePlan(const Model& model, const RobotMap& map, const BalanceShift&
     workspace.calcFrameJacobian(feet.back(), Eigen::Vector3d::Zero(), jacobian);
     velocities.push_back(jacobian * u);
   }
-  // Each foot's leg: the joints whose child link is on that foot's chain.
+  // Each foot's leg: the moving joints on that foot's chain.
   std::vector<LegJoints> legs(feet.size());
   for (size_t f = 0; f < feet.size(); ++f) {
-    std::string link = map.feet[f].link;
-    for (bool found = true; found;) {
-      found = false;
-      for (const ModelJoint& joint : model.joints()) {
-        if (joint.child != link || joint.type == "free") continue;
-        if (joint.u_index >= 0) legs[f].push_back(&joint);
-        link = joint.parent;
-        found = true;
-        break;
-      }
+    for (const ModelJoint* joint : FootChain(model, map.feet[f].link)) {
+      if (joint->u_index >= 0) legs[f].push_back(joint);
     }
   }
   q[4] += plan.position[0].x(), q[5] += plan.position[0].y();

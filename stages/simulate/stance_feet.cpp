@@ -19,13 +19,14 @@ StanceFeet::StanceFeet(const Model& model, const std::vector<RobotFoot>& feet, c
     }
     sole_centre_.push_back(foot.sole_points.empty() ? centre : Eigen::Vector3d(centre / static_cast<double>(foot.sole_points.size())));
   }
+  pose_.resize(feet.size());
   foot_jacobian_.resize(6, model.nu());
 }
 
 int StanceFeet::update(Workspace& workspace, const int64_t* planted) {
   int held = 0;
   for (size_t f = 0; f < stance_.size(); ++f) {
-    const Eigen::Isometry3d pose = workspace.findLinkPose(foot_links_[f]);
+    const Eigen::Isometry3d& pose = pose_[f] = workspace.findLinkPose(foot_links_[f]);
     double lowest = std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3d& point : sole_points_[f]) lowest = std::min(lowest, (pose * point).z());
     const bool hold = planted[f] != 0 && lowest <= options_.touch_height;
@@ -47,7 +48,7 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted) {
   Eigen::Index row = 0;
   for (size_t f = 0; f < stance_.size(); ++f) {
     if (!stance_[f].held) continue;
-    const Eigen::Isometry3d pose = workspace.findLinkPose(foot_links_[f]);
+    const Eigen::Isometry3d& pose = pose_[f];
     workspace.calcFrameJacobian(foot_links_[f], sole_centre_[f], foot_jacobian_);
     const Eigen::Matrix<double, 6, 1> velocity = foot_jacobian_ * u;
     const Eigen::Matrix<double, 6, 1> bias = workspace.calcFrameBiasAcceleration(foot_links_[f], sole_centre_[f]);

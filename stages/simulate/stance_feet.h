@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "common/model.h"
 #include "common/robot_map.h"
@@ -51,6 +52,7 @@ class StanceFeet {
   std::vector<std::vector<Eigen::Vector3d>> sole_points_;  // per foot, in its link frame
   std::vector<Eigen::Vector3d> sole_centre_;               // per foot, in its link frame
   std::vector<Stance> stance_;
+  std::vector<Eigen::Isometry3d> pose_;                    // per foot, its link's pose at the last update
   Eigen::Matrix<double, 6, Eigen::Dynamic> foot_jacobian_;
   Eigen::MatrixXd jacobian_;
   Eigen::VectorXd acceleration_;
