@@ -46,21 +46,39 @@ FootContacts DetectContacts(const std::vector<std::vector<Eigen::Vector3d>>& foo
   result.ground = heights[index];
 
   const int64_t frames = result.frames;
+  std::vector<std::vector<double>> speeds(static_cast<size_t>(result.feet));
+  for (int f = 0; f < result.feet; ++f) {
+    speeds[static_cast<size_t>(f)] = CentredHorizontalSpeeds(foot_positions[static_cast<size_t>(f)], time_s, options.speed_window);
+  }
   for (int f = 0; f < result.feet; ++f) {
     const std::vector<Eigen::Vector3d>& p = foot_positions[static_cast<size_t>(f)];
-    const std::vector<double> speeds = CentredHorizontalSpeeds(p, time_s, options.speed_window);
+    const std::vector<double>& speed_of = speeds[static_cast<size_t>(f)];
     bool planted = false;
+    double level = result.ground;  // the height the present contact stands at
+    std::vector<uint8_t> raised(static_cast<size_t>(frames), 0);  // planted above the ground's band
     for (int64_t t = 0; t < frames; ++t) {
-      const Eigen::Vector3d& here = p[static_cast<size_t>(t)];
-      const double speed = speeds[static_cast<size_t>(t)];
+      const size_t k = static_cast<size_t>(t);
+      const Eigen::Vector3d& here = p[k];
+      const double speed = speed_of[k];
       if (std::isnan(speed)) {  // the foot or a window end missing
         planted = false;
         continue;
       }
-      const double height = here.z() - result.ground;
-      const double scale = planted ? options.release : 1.0;
-      planted = height <= options.height * scale && speed <= options.speed * scale;
+      if (planted) {
+        planted = here.z() - level <= options.height * options.release && speed <= options.speed * options.release;
+      } else if (speed <= options.speed) {
+        if (here.z() - result.ground <= options.height) {
+          planted = true, level = result.ground;
+        } else if (options.uneven_ground && result.feet == 2) {
+          // The other foot swinging: this one carries the body, on whatever it stands on.
+          const double other_speed = speeds[static_cast<size_t>(1 - f)][k];
+          if (other_speed > options.speed * options.release) {
+            planted = true, level = here.z();
+          }
+        }
+      }
       result.contact[static_cast<size_t>(t * result.feet + f)] = planted;
+      raised[k] = planted && level != result.ground;
     }
     // Phases, dropping the short ones.
     int64_t t = 0;
@@ -76,7 +94,15 @@ FootContacts DetectContacts(const std::vector<std::vector<Eigen::Vector3d>>& foo
       // kept whatever its length (CMU 02_01 starts with 9 frames of a stance, and with it dropped the
       // robot's foot hung 2 cm above the floor there).
       const bool cut_by_recording = t == 0 || end == frames;
-      if (!cut_by_recording && duration + 1e-9 < options.min_duration) {
+      // A raised contact is a step only if the other foot stepped meanwhile: a foot turning on its ball
+      // (CMU 94_07's squat, the ankle 5-7 cm up) swings fast without going anywhere.
+      bool stepped = true;
+      if (raised[static_cast<size_t>(t)]) {
+        const std::vector<Eigen::Vector3d>& other = foot_positions[static_cast<size_t>(1 - f)];
+        const Eigen::Vector3d travel = other[static_cast<size_t>(end - 1)] - other[static_cast<size_t>(t)];
+        stepped = travel.allFinite() && travel.head<2>().norm() >= options.min_step;
+      }
+      if (!stepped || (!cut_by_recording && duration + 1e-9 < options.min_duration)) {
         for (int64_t k = t; k < end; ++k) result.contact[static_cast<size_t>(k * result.feet + f)] = 0;
       } else {
         result.phases.push_back({f, t, end});

@@ -10,6 +10,18 @@
 // toggle it; phases shorter than `min_duration` are dropped, but for a phase the
 // recording's first or last frame cuts (it lasted longer than what was captured).
 //
+// Uneven ground (`uneven_ground`, on by default): a capture over blocks, steps or ramps (CMU subject 03's
+// "walk on uneven terrain": stances 3-16 cm above its floor) has most stances too high for the ground's
+// band; with it alone 03_01 had one contact phase in 3.6 s of walking and the robot's feet were free to
+// slide through every step. A walk has no flight phase, so a slow foot (under `speed`) whose other foot
+// swings (faster than speed × release) carries the body, whatever it stands on. Such a contact's level is
+// the landmark's height where it began, and it ends, as one on the floor does, above level + height ×
+// release or faster than speed × release. The other foot must step meanwhile (travel `min_step`, a
+// short human step, from the phase's first frame to its last), or the phase is dropped: a foot turning
+// on its ball swings fast without going anywhere (CMU 94_07's squat on its toes, ankles 5-7 cm up,
+// drifted 101 mm planted flat), and so does a standing foot that jitters while the other is held still
+// in the air. On the 17 flat CMU walks the contacts are unchanged but for 2 frames of 09_12.
+//
 // Defaults (metres and seconds of the capture, before scaling to the robot):
 // 5 cm is the GMD foot-skating contact height (Karunratanakul et al. 2023,
 // common/foot_sliding.h), and a contact ends at 0.5 m/s, GMD's sliding
@@ -33,6 +45,8 @@ struct ContactDetectionOptions {
   double min_duration = 0.1;     // s; shorter phases are dropped
   double ground_percentile = 0.02;  // of both feet's landmark heights: the planted level
   double speed_window = 0.05;    // s, centred window of the speed estimate
+  bool uneven_ground = true;     // also plant a slow foot above the ground band while the other swings above it
+  double min_step = 0.2;         // m the other foot travels during such a raised contact, or it is dropped
 
   bool IsValid(std::string* error) const;
 };

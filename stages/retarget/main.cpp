@@ -132,6 +132,10 @@ int main(int argc, char** argv) {
   app.add_option("--contact-release", options.contact.release,
                  "Hysteresis: a contact ends only above height and speed times this (>= 1)")
       ->capture_default_str();
+  app.add_option("--contact-uneven-ground", options.contact.uneven_ground,
+                 "Contact detection: a slow foot whose other foot swings above it is planted whatever its height above the "
+                 "capture's ground (steps, blocks, ramps; a walk has no flight phase)")
+      ->capture_default_str();
   app.add_option("--contact-min-duration", options.contact.min_duration,
                  "Contact phases shorter than this (s) are dropped (0.1 s: the shortest human stance, sprinting)")
       ->capture_default_str();

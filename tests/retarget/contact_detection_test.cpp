@@ -2,6 +2,7 @@
 // phases, and on a real CMU walk whose two feet must alternate.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -144,6 +145,142 @@ TEST(ContactDetection, CmuWalkAlternatesItsFeet) {
     longest = std::max(longest, airborne);
   }
   EXPECT_LE(static_cast<double>(longest) / capture.rate_hz, 0.15);
+}
+
+// Uneven ground: a walk whose stances stand at different heights. Each foot alternates `stances` (begin,
+// end, height of the ankle above the floor) with swings that move it forward at 1.5 m/s and lift it 15 cm
+// above the higher of the stances around it.
+std::vector<Eigen::Vector3d> SteppingFoot(const std::vector<std::array<double, 3>>& stances, double duration) {
+  std::vector<Eigen::Vector3d> foot;
+  double x = 0;
+  for (int k = 0; k < static_cast<int>(duration * kRate); ++k) {
+    const double t = k / kRate;
+    const std::array<double, 3>* before = nullptr;
+    const std::array<double, 3>* after = nullptr;
+    const std::array<double, 3>* on = nullptr;
+    for (const std::array<double, 3>& stance : stances) {
+      if (t >= stance[0] && t < stance[1]) on = &stance;
+      if (stance[1] <= t) before = &stance;
+      if (stance[0] > t && after == nullptr) after = &stance;
+    }
+    double z = 0;
+    if (on != nullptr) {
+      z = (*on)[2];
+    } else {
+      const double from = before ? (*before)[1] : 0.0, to = after ? (*after)[0] : duration;
+      const double low = before ? (*before)[2] : 0.0, high = after ? (*after)[2] : low;
+      const double s = (t - from) / (to - from);
+      x += 1.5 / kRate;
+      z = low + (high - low) * s + 0.15 * std::sin(M_PI * s);
+    }
+    foot.emplace_back(x + 0.001 * std::sin(37.0 * k), 0.1, z + 0.001 * std::sin(71.0 * k));
+  }
+  return foot;
+}
+
+bool PlantedThrough(const FootContacts& contacts, const std::vector<double>& time, int foot, double from, double to) {
+  for (int64_t t = 0; t < contacts.frames; ++t) {
+    const double now = time[static_cast<size_t>(t)];
+    if (now >= from && now < to && !contacts.at(t, foot)) return false;
+  }
+  return true;
+}
+
+TEST(ContactDetection, FindsStancesOnRaisedGround) {
+  // Left on the floor (ankle 8 cm up), then on a 20 cm block, then on a 12 cm one; right on a 15 cm block, a
+  // 25 cm one and the floor. With the ground's band alone (5 cm) only the floor stances are contacts.
+  const double duration = 3.0;
+  const std::vector<std::vector<Eigen::Vector3d>> feet = {
+      SteppingFoot({{{0.0, 0.6, 0.08}}, {{1.0, 1.6, 0.28}}, {{2.0, 2.6, 0.20}}}, duration),
+      SteppingFoot({{{0.5, 1.1, 0.23}}, {{1.5, 2.1, 0.33}}, {{2.5, 3.0, 0.08}}}, duration)};
+  std::vector<double> time;
+  for (size_t k = 0; k < feet[0].size(); ++k) time.push_back(static_cast<double>(k) / kRate);
+  ContactDetectionOptions flat;
+  flat.uneven_ground = false;
+  const FootContacts on_the_floor = DetectContacts(feet, time, flat);
+  EXPECT_EQ(on_the_floor.phases.size(), 2u);
+  const FootContacts contacts = DetectContacts(feet, time, {});
+  ASSERT_EQ(contacts.phases.size(), 6u);
+  // A raised stance begins once the other foot swings above it and lasts until the foot itself swings;
+  // the single supports (one foot planted, the other swinging) are planted throughout, the speed window
+  // blurring each edge by a few frames.
+  EXPECT_TRUE(PlantedThrough(contacts, time, 0, 1.15, 1.45));  // left on 20 cm while the right swings
+  EXPECT_TRUE(PlantedThrough(contacts, time, 0, 2.15, 2.45));
+  EXPECT_TRUE(PlantedThrough(contacts, time, 1, 0.65, 0.95));  // right on 15 cm
+  EXPECT_TRUE(PlantedThrough(contacts, time, 1, 1.65, 1.95));
+  for (const ContactPhase& phase : contacts.phases) {
+    EXPECT_GE(time[static_cast<size_t>(phase.end - 1)] - time[static_cast<size_t>(phase.begin)], 0.25)
+        << "foot " << phase.foot << " from frame " << phase.begin;
+  }
+  // Swinging frames are never planted.
+  for (int64_t t = 0; t < contacts.frames; ++t) {
+    const double now = time[static_cast<size_t>(t)];
+    if (now > 0.65 && now < 0.95) {
+      EXPECT_FALSE(contacts.at(t, 0)) << "left swings at " << now << " s";
+    }
+    if (now > 1.15 && now < 1.45) {
+      EXPECT_FALSE(contacts.at(t, 1)) << "right swings at " << now << " s";
+    }
+  }
+}
+
+TEST(ContactDetection, AFootHeldStillInTheAirIsNotPlanted) {
+  // A dancer on one leg: the right foot planted on the floor, the left held still 30 cm up; then the left
+  // turning on its ball (ankle 7 cm up) while the right jitters fast in place without stepping anywhere.
+  std::vector<double> time;
+  std::vector<Eigen::Vector3d> left, right;
+  for (int k = 0; k < 360; ++k) {
+    const double t = k / kRate;
+    time.push_back(t);
+    const bool turning = t >= 1.5;
+    left.emplace_back(0.0, 0.1, turning ? 0.15 : 0.38);
+    right.emplace_back(turning ? 0.03 * std::sin(40.0 * t) : 0.0, -0.1, turning ? 0.25 + 0.03 * std::sin(40.0 * t) : 0.08);
+  }
+  const FootContacts contacts = DetectContacts({left, right}, time, {});
+  EXPECT_EQ(contacts.framesInContact(0), 0);
+}
+
+TEST(ContactDetection, CmuTerrainWalkAlternatesItsFeet) {
+  // CMU 03_01 walks over uneven terrain: its stances stand up to 20 cm above its floor. With the ground's
+  // band alone each foot had one phase (the left at 1.4-2.25 s, the right in its last 0.05 s) in 3.6 s.
+  SYN_REQUIRE_SHARED("cmu_bvh/03/03_01.bvh");
+  IngestOptions ingest;
+  ingest.drop_first_frame = true;
+  const MarkerData capture = IngestCapture(testing::SharedPath("cmu_bvh/03/03_01.bvh"), ingest, nullptr);
+  const LandmarkTrajectories landmarks =
+      ComputeLandmarks(capture, LoadMarkerSet(testing::SourcePath("manifests/markersets/cmu-bvh.toml")), "03_01");
+  std::vector<std::vector<Eigen::Vector3d>> feet(2);
+  for (int f = 0; f < 2; ++f) {
+    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), f == 0 ? "left_foot" : "right_foot");
+    ASSERT_NE(found, landmarks.names.end());
+    const int64_t l = found - landmarks.names.begin();
+    for (int64_t t = 0; t < landmarks.frames; ++t) {
+      const double* pose = &landmarks.pose[static_cast<size_t>((t * landmarks.count() + l) * 7)];
+      feet[static_cast<size_t>(f)].emplace_back(pose[0], pose[1], pose[2]);
+    }
+  }
+  const FootContacts contacts = DetectContacts(feet, capture.time_s, {});
+  for (int f = 0; f < 2; ++f) {
+    int phases = 0;
+    for (const ContactPhase& phase : contacts.phases) phases += phase.foot == f;
+    EXPECT_GE(phases, 3) << "foot " << f;
+    const double fraction = static_cast<double>(contacts.framesInContact(f)) / static_cast<double>(contacts.frames);
+    EXPECT_GT(fraction, 0.3) << "foot " << f;
+    EXPECT_LT(fraction, 0.75) << "foot " << f;
+  }
+  // Walking has no flight: at most a short gap (detection edges) with neither foot planted, after the
+  // first step.
+  int64_t airborne = 0, longest = 0;
+  for (int64_t t = 0; t < contacts.frames; ++t) {
+    airborne = contacts.at(t, 0) || contacts.at(t, 1) ? 0 : airborne + 1;
+    longest = std::max(longest, airborne);
+  }
+  EXPECT_LE(static_cast<double>(longest) / capture.rate_hz, 0.25);
+  ContactDetectionOptions flat;
+  flat.uneven_ground = false;
+  const FootContacts floor_only = DetectContacts(feet, capture.time_s, flat);
+  EXPECT_LT(floor_only.framesInContact(0) + floor_only.framesInContact(1),
+            (contacts.framesInContact(0) + contacts.framesInContact(1)) / 2);
 }
 
 }  // namespace
