@@ -70,9 +70,9 @@ FootContacts DetectContacts(const std::vector<std::vector<Eigen::Vector3d>>& foo
         if (here.z() - result.ground <= options.height) {
           planted = true, level = result.ground;
         } else if (options.uneven_ground && result.feet == 2) {
-          // The other foot swinging: this one carries the body, on whatever it stands on.
-          const double other_speed = speeds[static_cast<size_t>(1 - f)][k];
-          if (other_speed > options.speed * options.release) {
+          // The other foot swinging above this one: this one carries the body, on whatever it stands on.
+          const size_t other = static_cast<size_t>(1 - f);
+          if (speeds[other][k] > options.speed * options.release && foot_positions[other][k].z() > here.z()) {
             planted = true, level = here.z();
           }
         }
@@ -89,20 +89,25 @@ FootContacts DetectContacts(const std::vector<std::vector<Eigen::Vector3d>>& foo
       }
       int64_t end = t;
       while (end < frames && result.at(end, f)) ++end;
+      // A raised contact is a step only if the other foot stepped meanwhile: a foot turning on its ball
+      // swings fast without going anywhere. Without a step, the phase keeps only what is on the floor's
+      // band (it may have begun raised and come down).
+      if (raised[static_cast<size_t>(t)]) {
+        const std::vector<Eigen::Vector3d>& other = foot_positions[static_cast<size_t>(1 - f)];
+        const Eigen::Vector3d travel = other[static_cast<size_t>(end - 1)] - other[static_cast<size_t>(t)];
+        if (!(travel.allFinite() && travel.head<2>().norm() >= options.min_step)) {
+          int64_t floor = t;
+          while (floor < end && p[static_cast<size_t>(floor)].z() - result.ground > options.height) ++floor;
+          for (int64_t k = t; k < floor; ++k) result.contact[static_cast<size_t>(k * result.feet + f)] = 0;
+          if (floor > t) continue;  // the rest, if any, is looked at as a phase of its own
+        }
+      }
       const double duration = time_s[static_cast<size_t>(end - 1)] - time_s[static_cast<size_t>(t)];
       // A phase cut by the recording's first or last frame lasted longer than what was captured of it:
       // kept whatever its length (CMU 02_01 starts with 9 frames of a stance, and with it dropped the
       // robot's foot hung 2 cm above the floor there).
       const bool cut_by_recording = t == 0 || end == frames;
-      // A raised contact is a step only if the other foot stepped meanwhile: a foot turning on its ball
-      // (CMU 94_07's squat, the ankle 5-7 cm up) swings fast without going anywhere.
-      bool stepped = true;
-      if (raised[static_cast<size_t>(t)]) {
-        const std::vector<Eigen::Vector3d>& other = foot_positions[static_cast<size_t>(1 - f)];
-        const Eigen::Vector3d travel = other[static_cast<size_t>(end - 1)] - other[static_cast<size_t>(t)];
-        stepped = travel.allFinite() && travel.head<2>().norm() >= options.min_step;
-      }
-      if (!stepped || (!cut_by_recording && duration + 1e-9 < options.min_duration)) {
+      if (!cut_by_recording && duration + 1e-9 < options.min_duration) {
         for (int64_t k = t; k < end; ++k) result.contact[static_cast<size_t>(k * result.feet + f)] = 0;
       } else {
         result.phases.push_back({f, t, end});

@@ -14,13 +14,16 @@
 // "walk on uneven terrain": stances 3-16 cm above its floor) has most stances too high for the ground's
 // band; with it alone 03_01 had one contact phase in 3.6 s of walking and the robot's feet were free to
 // slide through every step. A walk has no flight phase, so a slow foot (under `speed`) whose other foot
-// swings (faster than speed × release) carries the body, whatever it stands on. Such a contact's level is
-// the landmark's height where it began, and it ends, as one on the floor does, above level + height ×
-// release or faster than speed × release. The other foot must step meanwhile (travel `min_step`, a
-// short human step, from the phase's first frame to its last), or the phase is dropped: a foot turning
-// on its ball swings fast without going anywhere (CMU 94_07's squat on its toes, ankles 5-7 cm up,
-// drifted 101 mm planted flat), and so does a standing foot that jitters while the other is held still
-// in the air. On the 17 flat CMU walks the contacts are unchanged but for 2 frames of 09_12.
+// swings above it (faster than speed × release, and higher) carries the body, whatever it stands on.
+// Such a contact's level is the landmark's height where it began, and it ends, as one on the floor does,
+// above level + height × release or faster than speed × release. The other foot must step meanwhile
+// (travel `min_step`, a short human step, from the phase's first frame to its last), or the phase keeps
+// only its frames within the floor's band: a foot turning on its ball swings fast without going anywhere
+// (CMU 94_07's squat on its toes, ankles 5-7 cm up, drifted 101 mm planted flat). "Higher": a dancer
+// kneeling on one leg (94_07 at 2.2-3 s, the knelt foot's ankle under the other's) stands on the knee, not
+// on the raised foot (planted, it drifted 136 mm). A foot held still in the air (a dancer on one leg) is
+// not taken for one either: its other foot, the standing one, is below it and slow. On the 17 flat CMU
+// walks the contacts are unchanged but for 2 frames of 09_12.
 //
 // Defaults (metres and seconds of the capture, before scaling to the robot):
 // 5 cm is the GMD foot-skating contact height (Karunratanakul et al. 2023,

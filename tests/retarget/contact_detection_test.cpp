@@ -201,13 +201,12 @@ TEST(ContactDetection, FindsStancesOnRaisedGround) {
   EXPECT_EQ(on_the_floor.phases.size(), 2u);
   const FootContacts contacts = DetectContacts(feet, time, {});
   ASSERT_EQ(contacts.phases.size(), 6u);
-  // A raised stance begins once the other foot swings above it and lasts until the foot itself swings;
-  // the single supports (one foot planted, the other swinging) are planted throughout, the speed window
-  // blurring each edge by a few frames.
+  // A raised stance begins once the other foot swings above it (the left leaving the floor for a 20 cm
+  // block passes the right's 15 cm block at about 0.72 s) and lasts until the foot itself swings.
   EXPECT_TRUE(PlantedThrough(contacts, time, 0, 1.15, 1.45));  // left on 20 cm while the right swings
   EXPECT_TRUE(PlantedThrough(contacts, time, 0, 2.15, 2.45));
-  EXPECT_TRUE(PlantedThrough(contacts, time, 1, 0.65, 0.95));  // right on 15 cm
-  EXPECT_TRUE(PlantedThrough(contacts, time, 1, 1.65, 1.95));
+  EXPECT_TRUE(PlantedThrough(contacts, time, 1, 0.76, 0.95));  // right on 15 cm
+  EXPECT_TRUE(PlantedThrough(contacts, time, 1, 1.7, 1.95));  // right on 25 cm, the left passing above at 1.67 s
   for (const ContactPhase& phase : contacts.phases) {
     EXPECT_GE(time[static_cast<size_t>(phase.end - 1)] - time[static_cast<size_t>(phase.begin)], 0.25)
         << "foot " << phase.foot << " from frame " << phase.begin;
