@@ -132,7 +132,8 @@ std::string SimulateSummary::FullReport() const {
         << lowest_pelvis_ratio * 100 << " % of the reference's height, peak vertical force " << peak_vertical_force_n
         << " N; base wrench no sole force explains (RMS): " << unexplained_force_rms_n << " N, "
         << unexplained_torque_rms_nm << " N·m; joints on their mechanical stops in " << stopped_joint_steps
-        << " joint-steps, at most " << worst_limit_excess_deg << " deg past a limit";
+        << " joint-steps, at most " << worst_limit_excess_deg << " deg past a limit; held soles more than 3 deg off flat in "
+        << tilted_foot_steps << " of " << held_foot_steps << " foot-steps";
     if (balance_corrected_frames >= 0) {
       out << "\n  balance plan: the reference's zero-moment point moved into the feet in " << balance_corrected_frames
           << " of " << frames << " frames, by up to " << balance_largest_zmp_correction_m * 1000
@@ -356,6 +357,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   }
   summary.frames = frames;
   if (ground) {
+    summary.held_foot_steps = stance_feet->heldFootSteps();
+    summary.tilted_foot_steps = stance_feet->tiltedFootSteps();
     summary.unexplained_force_rms_n = std::sqrt(unexplained_force_sq / static_cast<double>(frames));
     summary.unexplained_torque_rms_nm = std::sqrt(unexplained_torque_sq / static_cast<double>(frames));
   }

@@ -69,6 +69,10 @@ struct SimulateSummary {
   // joint went past its URDF limit (deg).
   int64_t stopped_joint_steps = -1;
   double worst_limit_excess_deg = -1;
+  // Ground mode: the control steps × feet a planted foot was held on the floor (stance_feet.h), and those
+  // with its sole more than 3° off flat (standing on an edge or a corner).
+  int64_t held_foot_steps = -1;
+  int64_t tilted_foot_steps = -1;
   // Ground mode with balance: the frames whose reference zero-moment point the plan moved into the feet,
   // the largest such move and the largest shift of the body above the legs (m).
   int64_t balance_corrected_frames = -1;

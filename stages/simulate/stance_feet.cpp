@@ -58,6 +58,8 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted) {
     Eigen::Matrix<double, 6, 1> error;
     error.head<3>() = turn.angle() * turn.axis();
     error.tail<3>() = stance_[f].anchor - pose * sole_centre_[f];
+    ++held_foot_steps_;
+    if (std::hypot(error[0], error[1]) > options_.off_flat) ++tilted_foot_steps_;
     jacobian_.middleRows(row, 6) = foot_jacobian_;
     acceleration_.segment(row, 6) = kp * error - kv * velocity - bias;
     row += 6;

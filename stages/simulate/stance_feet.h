@@ -12,6 +12,8 @@
 // 15 cm ahead of that edge could not be reached.
 #pragma once
 
+#include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -25,6 +27,7 @@ namespace syn {
 struct StanceFeetOptions {
   double touch_height = 0.002;  // m: a sole point this close to the floor touches it
   double stiffness = 900.0;     // 1/s²: the hold's PD (damping 2√k: critical)
+  double off_flat = 3.0 * M_PI / 180.0;  // rad: a held sole tilted more is counted (tiltedFootSteps)
 };
 
 class StanceFeet {
@@ -40,6 +43,11 @@ class StanceFeet {
   const Eigen::MatrixXd& jacobian() const { return jacobian_; }
   const Eigen::VectorXd& acceleration() const { return acceleration_; }
   bool held(size_t foot) const { return stance_[foot].held; }
+  // Over every update so far: the held foot-steps, and those whose sole was more than `off_flat` (rad)
+  // from flat, on an edge or a corner (a 3° roll lifts a G1 sole's far edge 2.6 mm, past the 2 mm the
+  // contact calls touching).
+  int64_t heldFootSteps() const { return held_foot_steps_; }
+  int64_t tiltedFootSteps() const { return tilted_foot_steps_; }
 
  private:
   struct Stance {
@@ -56,6 +64,7 @@ class StanceFeet {
   Eigen::Matrix<double, 6, Eigen::Dynamic> foot_jacobian_;
   Eigen::MatrixXd jacobian_;
   Eigen::VectorXd acceleration_;
+  int64_t held_foot_steps_ = 0, tilted_foot_steps_ = 0;
 };
 
 }  // namespace syn
