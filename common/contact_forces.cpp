@@ -70,8 +70,33 @@ ContactForceSplit::ContactForceSplit(const Model& model, const std::vector<Robot
   weights_.resize(max_columns);
 }
 
+Eigen::Matrix<double, 6, 6> ContactForceSplit::baseJacobianAtCentre(Workspace& workspace) {
+  const Eigen::Vector3d centre = workspace.findCenterOfMass();
+  const Eigen::Isometry3d base_pose = workspace.findLinkPose(base_link_);
+  workspace.calcFrameJacobian(base_link_, base_pose.inverse() * centre, jacobian_);
+  Eigen::Matrix<double, 6, 6> base_jacobian;
+  for (int k = 0; k < 6; ++k) base_jacobian.col(k) = jacobian_.col(unactuated_[static_cast<size_t>(k)]);
+  return base_jacobian;
+}
+
+Eigen::Matrix<double, 6, 6> ContactForceSplit::wrenchFromBaseForces(Workspace& workspace) {
+  if (base_link_ < 0) return Eigen::Matrix<double, 6, 6>::Zero();
+  return baseJacobianAtCentre(workspace).transpose().partialPivLu().inverse();
+}
+
 void ContactForceSplit::split(Workspace& workspace, const Eigen::VectorXd& u, const Eigen::VectorXd& tau, const int64_t* planted,
                               ContactForceFrame& out) {
+  Eigen::Matrix<double, 6, 1> wanted = Eigen::Matrix<double, 6, 1>::Zero();
+  if (base_link_ >= 0) {
+    Eigen::Matrix<double, 6, 1> base_tau;
+    for (int k = 0; k < 6; ++k) base_tau(k) = tau(unactuated_[static_cast<size_t>(k)]);
+    wanted = baseJacobianAtCentre(workspace).transpose().partialPivLu().solve(base_tau);
+  }
+  fit(workspace, u, wanted, planted, out);
+}
+
+void ContactForceSplit::fit(Workspace& workspace, const Eigen::VectorXd& u, const Eigen::Matrix<double, 6, 1>& wanted,
+                            const int64_t* planted, ContactForceFrame& out) {
   out.foot_force.resize(feet_.size());
   for (Eigen::Vector3d& force : out.foot_force) force.setZero();
   out.point_force.resize(point_count_);
@@ -79,17 +104,8 @@ void ContactForceSplit::split(Workspace& workspace, const Eigen::VectorXd& u, co
   out.residual.setZero();
   out.unexplained.setZero();
   if (base_link_ < 0) return;
-
+  out.residual = wanted;
   const Eigen::Vector3d centre = workspace.findCenterOfMass();
-  const Eigen::Isometry3d base_pose = workspace.findLinkPose(base_link_);
-  workspace.calcFrameJacobian(base_link_, base_pose.inverse() * centre, jacobian_);
-  Eigen::Matrix<double, 6, 6> base_jacobian;
-  Eigen::Matrix<double, 6, 1> base_tau;
-  for (int k = 0; k < 6; ++k) {
-    base_jacobian.col(k) = jacobian_.col(unactuated_[static_cast<size_t>(k)]);
-    base_tau(k) = tau(unactuated_[static_cast<size_t>(k)]);
-  }
-  out.residual = base_jacobian.transpose().partialPivLu().solve(base_tau);
 
   int n = 0, point_number = 0;
   for (size_t f = 0; f < feet_.size(); ++f) {

@@ -63,6 +63,16 @@ class ContactForceSplit {
   void split(Workspace& workspace, const Eigen::VectorXd& u, const Eigen::VectorXd& tau, const int64_t* planted,
              ContactForceFrame& out);
 
+  // The same fit for a given wrench `wanted` (about the centre of mass, ground frame) instead of one read
+  // from τ_b: out.residual = wanted, out.unexplained = what the sole forces leave of it.
+  void fit(Workspace& workspace, const Eigen::VectorXd& u, const Eigen::Matrix<double, 6, 1>& wanted, const int64_t* planted,
+           ContactForceFrame& out);
+
+  // X with W = X τ_b: the wrench about the centre of mass (ground frame) that generalized forces τ_b on the
+  // base's unactuated velocities (baseVelocities(), in order) amount to, at the workspace's q. X = J_b⁻ᵀ.
+  Eigen::Matrix<double, 6, 6> wrenchFromBaseForces(Workspace& workspace);
+  const std::vector<int>& baseVelocities() const { return unactuated_; }
+
  private:
   std::vector<RobotFoot> feet_;
   std::vector<int> foot_links_;
@@ -79,6 +89,8 @@ class ContactForceSplit {
   Eigen::VectorXd weights_;
   NonnegativeLeastSquares nonnegative_fit_;
   LeastNormConeCombination least_norm_;
+  // The base's Jacobian at the centre of mass, its unactuated columns (τ_b = J_bᵀ W).
+  Eigen::Matrix<double, 6, 6> baseJacobianAtCentre(Workspace& workspace);
 };
 
 }  // namespace syn

@@ -49,18 +49,18 @@
 namespace syn {
 
 struct BalanceControllerOptions {
-  double capture_gain = 4.0;    // k, 1/s: the capture point's error decays as e^(−kt) while p* is unclamped
+  double capture_gain = 3.5;    // k, 1/s: the capture point's error decays as e^(−kt) while p* is unclamped
   double kp = 350.0;            // 1/s²: centre-of-mass height
   double kv = 25.0;             // 1/s: its rate
   double friction = 0.8;        // μ of the planned forces (the contact-force split's)
   double touch_height = 0.002;  // m: a sole point this close to the floor supports (the planned forces')
-  // m: the largest landing shift of a stepping foot (0: no stepping). With the joints' stops and the
-  // closed-loop prediction, walks up of the 21 CMU walks onto G1 over this cap and capture_gain (2-6 1/s):
-  //   cap 0.15: 5, 4, 5 (gains 2, 3, 4); 0.2: 4, 4, 4; 0.25: 5, 7, 8, 6, 5 (2-6); 0.3: 8, 5, 6, 6, 3;
-  //   0.35: 7 (gain 4), 7 (5), 4 (6).
-  // 0.25 m and 4 1/s sit in the middle of the region where 6-8 stay up (a recovery step of a quarter metre
-  // is within a 0.6 m leg's reach); the counts still move by 1-3 with either (issue 18's notes).
-  double max_step_shift = 0.25;
+  // m: the largest landing shift of a stepping foot (0: no stepping). Walks up of the 21 CMU walks onto G1
+  // over this cap and capture_gain, with the planned forces on sole points within 2 cm and the torques
+  // that keep the held feet (simulation.cpp, contact_consistent_torques.h), 2026-11-28:
+  //   gain 3: caps 0.25, 0.28, 0.3, 0.32: 12, 12, 12, 12;  gain 3.5: caps 0.22, 0.28, 0.3, 0.32: 13, 13, 14, 11;
+  //   gain 4: caps 0.2, 0.25, 0.3: 11, 8, 12;  gain 4.5, cap 0.28: 11;  gain 5, cap 0.25: 14.
+  // 3.5 1/s and 0.3 m sit in the 11-14 region; (4, 0.25), the defaults before, is its low point.
+  double max_step_shift = 0.3;
 };
 
 class BalanceController {

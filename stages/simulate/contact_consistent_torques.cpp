@@ -2,11 +2,16 @@
 
 #include <limits>
 
+#include <Eigen/LU>
+
+#include "stages/simulate/operational_space_controller.h"
+
 namespace syn {
 
 ContactConsistentTorques::ContactConsistentTorques(const Model& model, const std::vector<RobotFoot>& feet,
-                                                   const ContactForceOptions& options, bool effort_limits)
-    : split_(model, feet, options), effort_limit_(model.effortLimit()) {
+                                                   const ContactForceOptions& options, bool effort_limits,
+                                                   const ContactConsistentOptions& consistent)
+    : split_(model, feet, options), options_(consistent), effort_limit_(model.effortLimit()) {
   if (!effort_limits) effort_limit_.setConstant(std::numeric_limits<double>::infinity());
   for (size_t f = 0; f < feet.size(); ++f) {
     foot_links_.push_back(model.findLinkIndex(feet[f].link));
@@ -16,15 +21,45 @@ ContactConsistentTorques::ContactConsistentTorques(const Model& model, const std
     }
   }
   for (int i = 0; i < model.nu(); ++i) {
-    (model.actuatedVelocities()[static_cast<size_t>(i)] ? actuated_ : unactuated_).push_back(i);
+    if (!model.actuatedVelocities()[static_cast<size_t>(i)]) unactuated_.push_back(i);
   }
-  jacobian_.resize(6, model.nu());
+  const int nu = model.nu();
+  jacobian_.resize(6, nu);
+  hessian_.resize(nu, nu);
+  hessian_solver_ = Eigen::LDLT<Eigen::MatrixXd>(nu);
+  wrench_rows_.resize(6, nu);
+  response_.resize(nu, 6);
 }
 
-int ContactConsistentTorques::apply(Workspace& workspace, const OperationalSpaceController& controller,
-                                    const int64_t* planted, Eigen::VectorXd& tau) {
-  controller.calcAcceleration(tau, planned_udot_);
-  split_.split(workspace, workspace.getU(), tau, planted, planned_);
+int ContactConsistentTorques::apply(Workspace& workspace, const Eigen::MatrixXd& mass, const Eigen::VectorXd& bias,
+                                    const Eigen::VectorXd& planned_udot, const int64_t* planted,
+                                    const Eigen::MatrixXd& stance_jacobian, const Eigen::VectorXd& stance_acceleration,
+                                    Eigen::VectorXd& tau) {
+  // Nearest the plan without the base's rows: H u̇ = A u̇* + w J_sᵀ a_s.
+  hessian_ = mass;
+  gradient_.noalias() = mass * planned_udot;
+  if (stance_jacobian.rows() > 0) {
+    hessian_.noalias() += options_.stance_weight * (stance_jacobian.transpose() * stance_jacobian);
+    gradient_.noalias() += options_.stance_weight * (stance_jacobian.transpose() * stance_acceleration);
+  }
+  hessian_solver_.compute(hessian_);
+  free_udot_ = hessian_solver_.solve(gradient_);
+  // The base's rows as the wrench they need about the centre of mass: W(u̇) = X (A_b u̇ + (b + g)_b).
+  const Eigen::Matrix<double, 6, 6> to_wrench = split_.wrenchFromBaseForces(workspace);
+  Eigen::Matrix<double, 6, 1> base_bias;
+  for (Eigen::Index r = 0; r < 6; ++r) {
+    const int i = unactuated_[static_cast<size_t>(r)];
+    wrench_rows_.row(r) = mass.row(i);
+    base_bias[r] = bias[i];
+  }
+  wrench_rows_ = to_wrench * wrench_rows_;
+  const Eigen::Matrix<double, 6, 1> wanted = wrench_rows_ * free_udot_ + to_wrench * base_bias;
+  split_.fit(workspace, workspace.getU(), wanted, planted, planned_);
+  // The constrained minimum: u̇ = u̇_free + H⁻¹ Pᵀ (P H⁻¹ Pᵀ)⁻¹ (w − W(u̇_free)), w the fitted wrench.
+  response_ = hessian_solver_.solve(wrench_rows_.transpose());
+  const Eigen::Matrix<double, 6, 6> compliance = wrench_rows_ * response_;
+  udot_ = free_udot_;
+  udot_.noalias() -= response_ * compliance.partialPivLu().solve(planned_.unexplained);
   sole_forces_.setZero(tau.size());
   for (size_t p = 0; p < point_local_.size(); ++p) {
     const Eigen::Vector3d& force = planned_.point_force[p];
@@ -32,21 +67,7 @@ int ContactConsistentTorques::apply(Workspace& workspace, const OperationalSpace
     workspace.calcFrameJacobian(foot_links_[static_cast<size_t>(point_foot_[p])], point_local_[p], jacobian_);
     sole_forces_.noalias() += jacobian_.bottomRows<3>().transpose() * force;
   }
-  const Eigen::MatrixXd& mass = controller.massMatrix();
-  const Eigen::VectorXd& bias = controller.biasForces();
-  const Eigen::Index base = static_cast<Eigen::Index>(unactuated_.size());
-  base_block_.resize(base, base);
-  base_rhs_.resize(base);
-  for (Eigen::Index r = 0; r < base; ++r) {
-    const int i = unactuated_[static_cast<size_t>(r)];
-    base_rhs_[r] = sole_forces_[i] - bias[i];
-    for (int j : actuated_) base_rhs_[r] -= mass(i, j) * planned_udot_[j];
-    for (Eigen::Index c = 0; c < base; ++c) base_block_(r, c) = mass(i, unactuated_[static_cast<size_t>(c)]);
-  }
-  base_solver_.compute(base_block_);
-  base_rhs_ = base_solver_.solve(base_rhs_);
-  for (Eigen::Index r = 0; r < base; ++r) planned_udot_[unactuated_[static_cast<size_t>(r)]] = base_rhs_[r];
-  tau.noalias() = mass * planned_udot_;
+  tau.noalias() = mass * udot_;
   tau += bias - sole_forces_;
   for (int i : unactuated_) tau[i] = 0.0;
   return ClipToEffort(effort_limit_, tau);

@@ -1,20 +1,29 @@
 // `--contact ground`: the controller's generalized forces made realisable with an unactuated base.
 //
-// The task hierarchy plans generalized forces Γ for every velocity, the free base's six included (what
-// the paper's driven base applies), i.e. accelerations a = A⁻¹ (Γ − b − g). On the ground nothing
-// drives the base: its six entries must come from the soles. So they are split into sole-point forces
-// f_p inside the friction cones (ContactForceSplit, the non-negative least-squares fit syn-retarget
-// uses for the base residual: unilateral normal force, μ = 0.8 pyramid, each foot's centre of pressure
-// inside its sole), c = Σ J_pᵀ f_p. Then floating-base inverse dynamics with those forces: the joints
-// keep their planned accelerations a_j, the base gets what the forces can give,
-//   a_b = A_bb⁻¹ (c_b − (b + g)_b − A_bj a_j),   τ = A a + b + g − c   (τ_b = 0 by construction).
-// Where the forces explain the whole base wrench, a_b is the planned one and τ_j = Γ_j − c_j; where
-// they explain nothing (a foot in flight), the joints still move as planned and the base follows
-// physics. The compliant ground then pushes with what penetration gives, near f when the feet are
-// down; the tasks' feedback answers the difference in the next steps, or the robot falls.
+// The task hierarchy plans accelerations u̇* for every velocity, the free base's six included (what the
+// paper's driven base applies). On the ground nothing drives the base: its six rows of the equations of
+// motion, A_b u̇ + (b + g)_b = (Σ J_pᵀ f_p)_b, must be met by sole-point forces f_p inside the friction
+// cones. So:
+//  1. the sole forces: the wrench about the centre of mass the plan needs is fitted by forces inside their
+//     cones (ContactForceSplit, the non-negative least-squares fit syn-retarget uses for the base residual:
+//     unilateral normal force, μ = 0.8 pyramid, each foot's centre of pressure inside its sole); where they
+//     explain all of it the plan is realisable as it is;
+//  2. the accelerations: the ones nearest the plan that the base's rows allow with those forces,
+//       min ½ ‖u̇ − u̇*‖²_A + ½ w ‖J_s u̇ − a_s‖²   subject to   W(u̇) = the fitted wrench,
+//     J_s, a_s the held feet's rows (StanceFeet): whatever the soles cannot give is taken up by the body
+//     moving over feet that stay where the plan holds them;
+//  3. the joint torques of floating-base inverse dynamics with those forces, τ = A u̇ + b + g − Σ J_pᵀ f_p
+//     (τ_b = 0 by construction), clipped to the URDF's effort.
+// Before (until 2026-11-28) the joints kept their planned accelerations and the base alone took the
+// difference: the base turned, the held feet with it, and a held G1 sole sat more than 3° off flat (on an
+// edge or a corner, its support a line or a point) in 66-89 % of its steps on six CMU walks; with the
+// feet's rows kept, 13-65 % (w = 10⁴; 10³: 33-63 %, 10⁵: 17-63 %). With the planned forces also allowed
+// on sole points up to 2 cm above the floor (simulation.cpp) the joints-kept version pressed tilted soles
+// flat by forces where they did not touch yet, and they slapped the floor with up to 13 kN; this one
+// brings them down at the held feet's own rate.
 //
-// The sole points that may push: within `max_height` (2 mm) of the floor, on a foot the source plants or
-// slower than 0.5 m/s (ContactForceOptions).
+// The sole points that may push: within `max_height` of the floor (syn-simulate: 2 cm), on a foot the
+// source plants or slower than 0.5 m/s (ContactForceOptions).
 #pragma once
 
 #include <vector>
@@ -25,39 +34,49 @@
 #include "common/contact_forces.h"
 #include "common/model.h"
 #include "common/robot_map.h"
-#include "stages/simulate/operational_space_controller.h"
 
 namespace syn {
+
+struct ContactConsistentOptions {
+  // The held feet's rows against the accelerations' kinetic-energy metric A (kg·m² per (rad/s²)²-ish: a
+  // G1's legs weigh 0.1-1, its base 35 along its translations).
+  double stance_weight = 1e4;
+};
 
 class ContactConsistentTorques {
  public:
   // effort_limits false: no clipping (syn-simulate --no-effort-limits).
   ContactConsistentTorques(const Model& model, const std::vector<RobotFoot>& feet, const ContactForceOptions& options,
-                           bool effort_limits);
+                           bool effort_limits, const ContactConsistentOptions& consistent = {});
 
-  // tau (nu, the controller's Γ + b + g, just computed by `controller` at the workspace's state) → the
-  // joint torques to apply: the base's entries zero, clipped to the URDF's effort. `planted` [feet] the
-  // source's contact flags at this time. Returns the number of joints clipped.
-  int apply(Workspace& workspace, const OperationalSpaceController& controller, const int64_t* planted,
+  // At the workspace's state (setQ, setU done), with A = `mass`, b + g = `bias`, the planned accelerations
+  // `planned_udot` (nu), the source's contact flags `planted` [feet] and the held feet's rows
+  // (`stance_jacobian` u̇ = `stance_acceleration`, no rows when none is held): the joint torques to apply,
+  // `tau` (nu; the base's entries zero, clipped to the URDF's effort). Returns the number of joints clipped.
+  int apply(Workspace& workspace, const Eigen::MatrixXd& mass, const Eigen::VectorXd& bias, const Eigen::VectorXd& planned_udot,
+            const int64_t* planted, const Eigen::MatrixXd& stance_jacobian, const Eigen::VectorXd& stance_acceleration,
             Eigen::VectorXd& tau);
 
-  // After apply: the planned forces and the base wrench they leave unexplained.
+  // After apply: the planned forces and the base wrench they leave unexplained, and the accelerations the
+  // torques and those forces give (before clipping).
   const ContactForceFrame& planned() const { return planned_; }
+  const Eigen::VectorXd& acceleration() const { return udot_; }
 
  private:
   ContactForceSplit split_;
+  ContactConsistentOptions options_;
   std::vector<int> foot_links_;
   std::vector<int> point_foot_;
   std::vector<Eigen::Vector3d> point_local_;
   Eigen::VectorXd effort_limit_;
   std::vector<int> unactuated_;
   ContactForceFrame planned_;
-  std::vector<int> actuated_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
-  Eigen::VectorXd planned_udot_, sole_forces_;  // A⁻¹ (Γ − b − g) and Σ J_pᵀ f_p
-  Eigen::MatrixXd base_block_;
-  Eigen::LDLT<Eigen::MatrixXd> base_solver_;
-  Eigen::VectorXd base_rhs_;
+  Eigen::MatrixXd hessian_;                 // H = A + w J_sᵀ J_s
+  Eigen::LDLT<Eigen::MatrixXd> hessian_solver_;
+  Eigen::VectorXd gradient_, free_udot_, udot_, sole_forces_;
+  Eigen::MatrixXd wrench_rows_;             // P: W(u̇) = P u̇ + X (b + g)_b
+  Eigen::MatrixXd response_;                // H⁻¹ Pᵀ
 };
 
 }  // namespace syn

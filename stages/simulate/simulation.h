@@ -38,9 +38,9 @@ struct SimulateOptions {
   // feet (BalanceShift). Off is for diagnosis: the source's motion as retargeted.
   bool balance = true;
   // 1/s: how fast the capture point returns to the plan's (BalanceController).
-  double balance_gain = 4.0;
+  double balance_gain = 3.5;
   // m: the largest shift of a stepping foot's landing (BalanceController; 0: no stepping).
-  double step_adjustment = 0.25;
+  double step_adjustment = 0.3;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;
