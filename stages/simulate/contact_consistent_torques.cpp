@@ -26,7 +26,6 @@ ContactConsistentTorques::ContactConsistentTorques(const Model& model, const std
   const int nu = model.nu();
   jacobian_.resize(6, nu);
   hessian_.resize(nu, nu);
-  hessian_solver_ = Eigen::LDLT<Eigen::MatrixXd>(nu);
   wrench_rows_.resize(6, nu);
   response_.resize(nu, 6);
 }

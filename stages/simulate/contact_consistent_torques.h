@@ -73,7 +73,7 @@ class ContactConsistentTorques {
   ContactForceFrame planned_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
   Eigen::MatrixXd hessian_;                 // H = A + w J_sᵀ J_s
-  Eigen::LDLT<Eigen::MatrixXd> hessian_solver_;
+  Eigen::LDLT<Eigen::MatrixXd> hessian_solver_;  // sized by its first compute (a copy of a sized, uncomputed LDLT reads an unset status: UBSan)
   Eigen::VectorXd gradient_, free_udot_, udot_, sole_forces_;
   Eigen::MatrixXd wrench_rows_;             // P: W(u̇) = P u̇ + X (b + g)_b
   Eigen::MatrixXd response_;                // H⁻¹ Pᵀ
