@@ -69,9 +69,8 @@ class ContactForceSplit {
            ContactForceFrame& out);
 
   // X with W = X τ_b: the wrench about the centre of mass (ground frame) that generalized forces τ_b on the
-  // base's unactuated velocities (baseVelocities(), in order) amount to, at the workspace's q. X = J_b⁻ᵀ.
+  // base's unactuated velocities (in the model's order) amount to, at the workspace's q. X = J_b⁻ᵀ.
   Eigen::Matrix<double, 6, 6> wrenchFromBaseForces(Workspace& workspace);
-  const std::vector<int>& baseVelocities() const { return unactuated_; }
 
  private:
   std::vector<RobotFoot> feet_;

@@ -26,6 +26,7 @@ ContactConsistentTorques::ContactConsistentTorques(const Model& model, const std
   const int nu = model.nu();
   jacobian_.resize(6, nu);
   hessian_.resize(nu, nu);
+  base_rows_.resize(6, nu);
   wrench_rows_.resize(6, nu);
   response_.resize(nu, 6);
 }
@@ -48,10 +49,10 @@ int ContactConsistentTorques::apply(Workspace& workspace, const Eigen::MatrixXd&
   Eigen::Matrix<double, 6, 1> base_bias;
   for (Eigen::Index r = 0; r < 6; ++r) {
     const int i = unactuated_[static_cast<size_t>(r)];
-    wrench_rows_.row(r) = mass.row(i);
+    base_rows_.row(r) = mass.row(i);
     base_bias[r] = bias[i];
   }
-  wrench_rows_ = to_wrench * wrench_rows_;
+  wrench_rows_.noalias() = to_wrench * base_rows_;
   const Eigen::Matrix<double, 6, 1> wanted = wrench_rows_ * free_udot_ + to_wrench * base_bias;
   split_.fit(workspace, workspace.getU(), wanted, planted, planned_);
   // The constrained minimum: u̇ = u̇_free + H⁻¹ Pᵀ (P H⁻¹ Pᵀ)⁻¹ (w − W(u̇_free)), w the fitted wrench.

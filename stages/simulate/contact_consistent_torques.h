@@ -57,10 +57,8 @@ class ContactConsistentTorques {
             const int64_t* planted, const Eigen::MatrixXd& stance_jacobian, const Eigen::VectorXd& stance_acceleration,
             Eigen::VectorXd& tau);
 
-  // After apply: the planned forces and the base wrench they leave unexplained, and the accelerations the
-  // torques and those forces give (before clipping).
+  // After apply: the planned forces and the base wrench they leave unexplained.
   const ContactForceFrame& planned() const { return planned_; }
-  const Eigen::VectorXd& acceleration() const { return udot_; }
 
  private:
   ContactForceSplit split_;
@@ -75,7 +73,8 @@ class ContactConsistentTorques {
   Eigen::MatrixXd hessian_;                 // H = A + w J_sᵀ J_s
   Eigen::LDLT<Eigen::MatrixXd> hessian_solver_;  // sized by its first compute (a copy of a sized, uncomputed LDLT reads an unset status: UBSan)
   Eigen::VectorXd gradient_, free_udot_, udot_, sole_forces_;
-  Eigen::MatrixXd wrench_rows_;             // P: W(u̇) = P u̇ + X (b + g)_b
+  Eigen::MatrixXd base_rows_;               // A_b: the base's rows of A
+  Eigen::MatrixXd wrench_rows_;             // P = X A_b: W(u̇) = P u̇ + X (b + g)_b
   Eigen::MatrixXd response_;                // H⁻¹ Pᵀ
 };
 

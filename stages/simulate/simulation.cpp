@@ -250,8 +250,6 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     StandOnTheFloor(model, map, workspace, q);
   }
   Eigen::VectorXd tau(nu), udot(nu), contact_forces(nu), applied(nu), planned_udot(nu);
-  const Eigen::MatrixXd no_rows(0, nu);  // no foot held
-  const Eigen::VectorXd no_values(0);
   Eigen::MatrixXd contact_stiffness(nu, nu), contact_damping(nu, nu), implicit_mass(nu, nu);
   Eigen::LDLT<Eigen::MatrixXd> implicit_solver(nu);
   std::vector<TaskReference> task_references;
@@ -278,9 +276,9 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     int saturated = controller.calcTorques(workspace, task_references, posture, tau);
     if (ground) {
       controller.calcAcceleration(tau, planned_udot);
-      const bool held = stance_feet->heldCount() > 0;
+      // The held feet's rows (none when no foot is held).
       saturated += distribution->apply(workspace, controller.massMatrix(), controller.biasForces(), planned_udot, planted.data(),
-                                       held ? stance_feet->jacobian() : no_rows, held ? stance_feet->acceleration() : no_values, tau);
+                                       stance_feet->jacobian(), stance_feet->acceleration(), tau);
       ground_contact->calcForces(workspace, contact_forces, contact_stiffness, contact_damping);
       summary.stopped_joint_steps += joint_stops->add(q, u, dt, contact_forces, contact_stiffness, contact_damping);
       // Linearly implicit in the contact forces: (A + h B + h² K) u̇ = τ + f − b − g − h K u, the step

@@ -43,7 +43,6 @@ class StanceFeet {
   const Eigen::MatrixXd& jacobian() const { return jacobian_; }
   const Eigen::VectorXd& acceleration() const { return acceleration_; }
   bool held(size_t foot) const { return stance_[foot].held; }
-  int heldCount() const { return static_cast<int>(jacobian_.rows() / 6); }
   // Over every update so far: the held foot-steps, and those whose sole was more than `off_flat` (rad)
   // from flat, on an edge or a corner (a 3° roll lifts a G1 sole's far edge 2.6 mm, past the 2 mm the
   // contact calls touching).

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "common/markers_file.h"
@@ -43,6 +44,46 @@ std::vector<Eigen::Vector3d> SyntheticFoot(const std::vector<std::pair<double, d
     truth->push_back(down);
   }
   return foot;
+}
+
+// The left and right foot landmarks of a shared CMU BVH take (`bvh` under cmu_bvh/), ingested as the
+// stage does; `capture` gets the ingested take. Empty, with a failure recorded, if a foot landmark is missing.
+std::vector<std::vector<Eigen::Vector3d>> CmuFootLandmarks(const std::string& bvh, const std::string& take, MarkerData& capture) {
+  IngestOptions ingest;
+  ingest.drop_first_frame = true;
+  capture = IngestCapture(testing::SharedPath("cmu_bvh/" + bvh), ingest, nullptr);
+  const LandmarkTrajectories landmarks =
+      ComputeLandmarks(capture, LoadMarkerSet(testing::SourcePath("manifests/markersets/cmu-bvh.toml")), take);
+  std::vector<std::vector<Eigen::Vector3d>> feet(2);
+  for (int f = 0; f < 2; ++f) {
+    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), f == 0 ? "left_foot" : "right_foot");
+    if (found == landmarks.names.end()) {
+      ADD_FAILURE() << take << ": no " << (f == 0 ? "left_foot" : "right_foot") << " landmark";
+      return {};
+    }
+    const int64_t l = found - landmarks.names.begin();
+    for (int64_t t = 0; t < landmarks.frames; ++t) {
+      const double* pose = &landmarks.pose[static_cast<size_t>((t * landmarks.count() + l) * 7)];
+      feet[static_cast<size_t>(f)].emplace_back(pose[0], pose[1], pose[2]);
+    }
+  }
+  return feet;
+}
+
+int PhasesOf(const FootContacts& contacts, int foot) {
+  int phases = 0;
+  for (const ContactPhase& phase : contacts.phases) phases += phase.foot == foot;
+  return phases;
+}
+
+// s: the longest run of frames with neither of two feet planted (walking has no flight phase).
+double LongestGapWithNoFootPlanted(const FootContacts& contacts, double rate_hz) {
+  int64_t airborne = 0, longest = 0;
+  for (int64_t t = 0; t < contacts.frames; ++t) {
+    airborne = contacts.at(t, 0) || contacts.at(t, 1) ? 0 : airborne + 1;
+    longest = std::max(longest, airborne);
+  }
+  return static_cast<double>(longest) / rate_hz;
 }
 
 TEST(ContactDetection, FindsTheStancePhasesOfASyntheticGait) {
@@ -108,28 +149,15 @@ TEST(ContactDetection, HysteresisKeepsAContactThroughNoiseAtTheThreshold) {
 
 TEST(ContactDetection, CmuWalkAlternatesItsFeet) {
   SYN_REQUIRE_SHARED("cmu_bvh/02/02_01.bvh");
-  IngestOptions ingest;
-  ingest.drop_first_frame = true;
-  const MarkerData capture = IngestCapture(testing::SharedPath("cmu_bvh/02/02_01.bvh"), ingest, nullptr);
-  const LandmarkTrajectories landmarks =
-      ComputeLandmarks(capture, LoadMarkerSet(testing::SourcePath("manifests/markersets/cmu-bvh.toml")), "02_01");
-  std::vector<std::vector<Eigen::Vector3d>> feet(2);
-  for (int f = 0; f < 2; ++f) {
-    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), f == 0 ? "left_foot" : "right_foot");
-    ASSERT_NE(found, landmarks.names.end());
-    const int64_t l = found - landmarks.names.begin();
-    for (int64_t t = 0; t < landmarks.frames; ++t) {
-      const double* pose = &landmarks.pose[static_cast<size_t>((t * landmarks.count() + l) * 7)];
-      feet[static_cast<size_t>(f)].emplace_back(pose[0], pose[1], pose[2]);
-    }
-  }
+  MarkerData capture;
+  const std::vector<std::vector<Eigen::Vector3d>> feet = CmuFootLandmarks("02/02_01.bvh", "02_01", capture);
+  ASSERT_EQ(feet.size(), 2u);
   const FootContacts contacts = DetectContacts(feet, capture.time_s, {});
   // 02_01 is 2.9 s of walking, about 2.5 strides: each foot is planted 2–4 times, for 30–75 % of the
   // frames (stance is ~60 % of a human gait cycle), and at every frame at least one foot is down or
   // the walk is in a swing of at most 0.15 s (walking has no flight phase; detection edges blur it).
   for (int f = 0; f < 2; ++f) {
-    int phases = 0;
-    for (const ContactPhase& phase : contacts.phases) phases += phase.foot == f;
+    const int phases = PhasesOf(contacts, f);
     EXPECT_GE(phases, 2) << "foot " << f;
     EXPECT_LE(phases, 4) << "foot " << f;
     const double fraction = static_cast<double>(contacts.framesInContact(f)) / static_cast<double>(contacts.frames);
@@ -139,12 +167,7 @@ TEST(ContactDetection, CmuWalkAlternatesItsFeet) {
   // The capture begins with the right foot at rest before its heel rises (9 frames): planted, though
   // shorter than the minimum duration, since the recording cut it.
   EXPECT_TRUE(contacts.at(0, 1)) << "the right foot at the first frame";
-  int64_t airborne = 0, longest = 0;
-  for (int64_t t = 0; t < contacts.frames; ++t) {
-    airborne = contacts.at(t, 0) || contacts.at(t, 1) ? 0 : airborne + 1;
-    longest = std::max(longest, airborne);
-  }
-  EXPECT_LE(static_cast<double>(longest) / capture.rate_hz, 0.15);
+  EXPECT_LE(LongestGapWithNoFootPlanted(contacts, capture.rate_hz), 0.15);
 }
 
 // Uneven ground: a walk whose stances stand at different heights. Each foot alternates `stances` (begin,
@@ -243,25 +266,12 @@ TEST(ContactDetection, CmuTerrainWalkAlternatesItsFeet) {
   // CMU 03_01 walks over uneven terrain: its stances stand up to 20 cm above its floor. With the ground's
   // band alone each foot had one phase (the left at 1.4-2.25 s, the right in its last 0.05 s) in 3.6 s.
   SYN_REQUIRE_SHARED("cmu_bvh/03/03_01.bvh");
-  IngestOptions ingest;
-  ingest.drop_first_frame = true;
-  const MarkerData capture = IngestCapture(testing::SharedPath("cmu_bvh/03/03_01.bvh"), ingest, nullptr);
-  const LandmarkTrajectories landmarks =
-      ComputeLandmarks(capture, LoadMarkerSet(testing::SourcePath("manifests/markersets/cmu-bvh.toml")), "03_01");
-  std::vector<std::vector<Eigen::Vector3d>> feet(2);
-  for (int f = 0; f < 2; ++f) {
-    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), f == 0 ? "left_foot" : "right_foot");
-    ASSERT_NE(found, landmarks.names.end());
-    const int64_t l = found - landmarks.names.begin();
-    for (int64_t t = 0; t < landmarks.frames; ++t) {
-      const double* pose = &landmarks.pose[static_cast<size_t>((t * landmarks.count() + l) * 7)];
-      feet[static_cast<size_t>(f)].emplace_back(pose[0], pose[1], pose[2]);
-    }
-  }
+  MarkerData capture;
+  const std::vector<std::vector<Eigen::Vector3d>> feet = CmuFootLandmarks("03/03_01.bvh", "03_01", capture);
+  ASSERT_EQ(feet.size(), 2u);
   const FootContacts contacts = DetectContacts(feet, capture.time_s, {});
   for (int f = 0; f < 2; ++f) {
-    int phases = 0;
-    for (const ContactPhase& phase : contacts.phases) phases += phase.foot == f;
+    const int phases = PhasesOf(contacts, f);
     EXPECT_GE(phases, 3) << "foot " << f;
     const double fraction = static_cast<double>(contacts.framesInContact(f)) / static_cast<double>(contacts.frames);
     EXPECT_GT(fraction, 0.3) << "foot " << f;
@@ -269,12 +279,7 @@ TEST(ContactDetection, CmuTerrainWalkAlternatesItsFeet) {
   }
   // Walking has no flight: at most a short gap (detection edges) with neither foot planted, after the
   // first step.
-  int64_t airborne = 0, longest = 0;
-  for (int64_t t = 0; t < contacts.frames; ++t) {
-    airborne = contacts.at(t, 0) || contacts.at(t, 1) ? 0 : airborne + 1;
-    longest = std::max(longest, airborne);
-  }
-  EXPECT_LE(static_cast<double>(longest) / capture.rate_hz, 0.25);
+  EXPECT_LE(LongestGapWithNoFootPlanted(contacts, capture.rate_hz), 0.25);
   ContactDetectionOptions flat;
   flat.uneven_ground = false;
   const FootContacts floor_only = DetectContacts(feet, capture.time_s, flat);
