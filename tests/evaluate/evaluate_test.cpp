@@ -15,15 +15,15 @@
 #include "stages/segment/segmentation.h"
 #include "stages/synergies/synergies.h"
 #include "tests/support/demo_motion.h"
+#include "tests/support/scratch_file.h"
 #include "tests/support/shared_data.h"
 
 namespace syn {
 namespace {
 
-std::string WriteTemporaryUrdf(const std::string& name, const std::string& text) {
-  const std::string path = std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".urdf");
-  std::ofstream(path) << text;
-  return path;
+Model LoadUrdfText(const std::string& name, const std::string& text, FloatingBase base) {
+  const testing::ScratchFile urdf(name, ".urdf", text);
+  return Model::Load(urdf.path(), {base});
 }
 
 // One free-floating link whose centre of mass is off its origin and whose inertia is not diagonal.
@@ -35,7 +35,7 @@ constexpr const char* kSingleBodyUrdf = R"(<robot name="block">
 </robot>)";
 
 TEST(MotionMetrics, RigidBodyTurningAtConstantRateKeepsItsKineticEnergy) {
-  const Model model = Model::Load(WriteTemporaryUrdf("block", kSingleBodyUrdf), {FloatingBase::kFree});
+  const Model model = LoadUrdfText("block", kSingleBodyUrdf, FloatingBase::kFree);
   ASSERT_EQ(model.nq(), 7);
   const double rate = 2.5;  // rad/s about ground Z through the link origin
   std::vector<double> time, q, u;
@@ -67,7 +67,7 @@ constexpr const char* kPendulumUrdf = R"(<robot name="pendulum">
 </robot>)";
 
 TEST(MotionMetrics, PendulumAtConstantRateHasTheGravityTorquePower) {
-  const Model model = Model::Load(WriteTemporaryUrdf("pendulum", kPendulumUrdf), {FloatingBase::kFixed});
+  const Model model = LoadUrdfText("pendulum", kPendulumUrdf, FloatingBase::kFixed);
   ASSERT_EQ(model.nu(), 1);
   const double omega = 3.0, mass = 2.0, length = 0.7, g = model.gravity();
   std::vector<double> time, q, u;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "common/model.h"
+#include "tests/support/scratch_file.h"
 #include "tests/support/shared_data.h"
 
 namespace syn {
@@ -202,14 +203,13 @@ TEST(ModelDynamics, FrameJacobianMatchesFiniteDifferencesOfKinematics) {
 
 // A hand-computable body: a fixed child merged into its parent must carry its mass properties along.
 TEST(ModelDynamics, FixedJointMergeCombinesMassProperties) {
-  const std::string path = std::filesystem::temp_directory_path() / ("merge_" + std::to_string(::getpid()) + ".urdf");
-  std::ofstream(path) << R"(<robot name="merge">
+  const testing::ScratchFile urdf("merge", ".urdf", R"(<robot name="merge">
   <link name="base"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
   <link name="tip"><inertial><origin xyz="0.5 0 0" rpy="0 0 0"/><mass value="2"/>
     <inertia ixx="0.2" iyy="0.3" izz="0.4" ixy="0" ixz="0" iyz="0"/></inertial></link>
   <joint name="weld" type="fixed"><parent link="base"/><child link="tip"/><origin xyz="0.5 0 0" rpy="0 0 1.5707963267948966"/></joint>
-</robot>)";
-  const Model model = Model::Load(path);
+</robot>)");
+  const Model model = Model::Load(urdf.path());
   ASSERT_TRUE(model.hasFreeBase());
   Workspace workspace(model);
   workspace.setQ(model.defaultQ());
@@ -227,7 +227,6 @@ TEST(ModelDynamics, FixedJointMergeCombinesMassProperties) {
   workspace.setU(u);
   EXPECT_NEAR(workspace.calcKineticEnergy(), 0.5 * 4.0 * (0.1 + 0.3 + 2.0 * 0.25), 1e-12);
   EXPECT_DOUBLE_EQ(model.totalMass(), 3.0);
-  std::filesystem::remove(path);
 }
 
 TEST(ModelDynamics, MassTimesAtAGivenConfigurationEqualsSimbodysMultiplyByM) {

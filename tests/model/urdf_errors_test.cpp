@@ -9,6 +9,7 @@
 #include "common/urdf.h"
 #include <nlohmann/json.hpp>
 #include "tests/support/run_command.h"
+#include "tests/support/scratch_file.h"
 #include "tests/support/shared_data.h"
 
 namespace syn {
@@ -91,14 +92,13 @@ TEST(UrdfErrors, CommentedJointsAreIgnored) {
 }
 
 TEST(UrdfErrors, InspectExitsOneWithFileAndLine) {
-  const std::string path = std::filesystem::temp_directory_path() / ("bad_" + std::to_string(::getpid()) + ".urdf");
-  std::ofstream(path) << std::string(kTwoLinks) + "  <joint name=\"j\" type=\"hinge\"><parent link=\"a\"/><child link=\"b\"/></joint>\n</robot>\n";
+  const testing::ScratchFile urdf("bad", ".urdf", std::string(kTwoLinks) + "  <joint name=\"j\" type=\"hinge\"><parent link=\"a\"/><child link=\"b\"/></joint>\n</robot>\n");
+  const std::string& path = urdf.path();
   const testing::CommandResult result = testing::RunCommand(testing::BinPath("syn-inspect") + " " + path);
   EXPECT_EQ(result.exit_code, 1) << result.output;
   EXPECT_NE(result.output.find(path + ":4: joint 'j': unknown type 'hinge'"), std::string::npos) << result.output;
   const testing::CommandResult usage = testing::RunCommand(testing::BinPath("syn-inspect") + " " + path + " --floating-base sideways");
   EXPECT_EQ(usage.exit_code, 2) << usage.output;
-  std::filesystem::remove(path);
 }
 
 TEST(UrdfErrors, InspectDescribesTheDefaultRobot) {

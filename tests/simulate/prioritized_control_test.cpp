@@ -11,14 +11,14 @@
 
 #include "common/model.h"
 #include "stages/simulate/prioritized_control.h"
+#include "tests/support/scratch_file.h"
 
 namespace syn {
 namespace {
 
 // A small free-floating robot: a 2 kg torso with a 4-joint arm and a 2-joint arm (nu = 6 + 6).
-std::string SmallRobotUrdf() {
-  const std::string path = std::filesystem::temp_directory_path() / ("small_robot_" + std::to_string(::getpid()) + ".urdf");
-  std::ofstream(path) << R"(<robot name="small">
+Model SmallRobotModel() {
+  const testing::ScratchFile urdf("small_robot", ".urdf", R"(<robot name="small">
   <link name="torso"><inertial><mass value="2"/><inertia ixx="0.05" iyy="0.04" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial></link>
   <link name="a1"><inertial><origin xyz="0.1 0 0"/><mass value="0.8"/><inertia ixx="0.002" iyy="0.006" izz="0.006" ixy="0" ixz="0" iyz="0"/></inertial></link>
   <link name="a2"><inertial><origin xyz="0.1 0 0"/><mass value="0.6"/><inertia ixx="0.002" iyy="0.005" izz="0.005" ixy="0" ixz="0" iyz="0"/></inertial></link>
@@ -32,15 +32,15 @@ std::string SmallRobotUrdf() {
   <joint name="ja4" type="revolute"><parent link="a3"/><child link="a4"/><origin xyz="0.2 0 0"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="0" velocity="0"/></joint>
   <joint name="jb1" type="revolute"><parent link="torso"/><child link="b1"/><origin xyz="0 0.1 -0.1"/><axis xyz="1 0 0"/><limit lower="-3" upper="3" effort="0" velocity="0"/></joint>
   <joint name="jb2" type="revolute"><parent link="b1"/><child link="b2"/><origin xyz="0 0.2 0"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="0" velocity="0"/></joint>
-</robot>)";
-  return path;
+</robot>)");
+  return Model::Load(urdf.path());
 }
 
 struct SmallRobot {
   Model model;
   Workspace workspace;
   TreeMassFactorization mass;
-  explicit SmallRobot(uint32_t seed) : model(Model::Load(SmallRobotUrdf())), workspace(model), mass(model) {
+  explicit SmallRobot(uint32_t seed) : model(SmallRobotModel()), workspace(model), mass(model) {
     std::mt19937 random(seed);
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
     Eigen::VectorXd q(model.nq()), u(model.nu());
