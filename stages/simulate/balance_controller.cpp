@@ -175,8 +175,16 @@ void BalanceController::step(double now, size_t frame, const int64_t* planted, c
     Eigen::Vector2d shift = PredictedCaptureError(capture_error, zmp_plan, omega, left);
     if (shift.norm() > options_.max_step_shift) shift *= options_.max_step_shift / shift.norm();
     landing_shift_[f] = shift;
-    const double progress = std::clamp((now - swing_start_[f]) / std::max(landing - swing_start_[f], 1e-6), 0.0, 1.0);
-    references[static_cast<size_t>(foot_tasks_[f])].position.head<2>() += progress * progress * (3 - 2 * progress) * shift;
+    const double duration = std::max(landing - swing_start_[f], 1e-6);
+    const double progress = std::clamp((now - swing_start_[f]) / duration, 0.0, 1.0);
+    TaskReference& foot = references[static_cast<size_t>(foot_tasks_[f])];
+    foot.position.head<2>() += progress * progress * (3 - 2 * progress) * shift;
+    // The lift's rate and acceleration go into the feedforward with it (the landing shift's do not: it is
+    // re-predicted every step, and its feedforward made no walk stay up longer).
+    const double phase = M_PI * progress;
+    foot.position.z() += options_.swing_lift * std::sin(phase);
+    foot.velocity[5] += options_.swing_lift * M_PI / duration * std::cos(phase);
+    foot.acceleration[5] -= options_.swing_lift * (M_PI / duration) * (M_PI / duration) * std::sin(phase);
   }
   for (TaskReference& reference : references) reference.position.head<2>() += plan_offset_;
 }

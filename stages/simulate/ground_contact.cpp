@@ -2,15 +2,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace syn {
 
 GroundContact::GroundContact(const Model& model, const std::vector<RobotFoot>& feet, const GroundContactOptions& options)
-    : options_(options), foot_force_(feet.size()), foot_touches_(feet.size(), false) {
+    : options_(options), foot_force_(feet.size()), applied_force_(feet.size()), foot_touches_(feet.size(), false) {
   for (size_t f = 0; f < feet.size(); ++f) {
     foot_links_.push_back(model.findLinkIndex(feet[f].link));
     for (const std::array<double, 3>& local : feet[f].sole_points) {
-      points_.push_back({static_cast<int>(f), Eigen::Vector3d(local[0], local[1], local[2]), false, Eigen::Vector2d::Zero()});
+      SolePoint point;
+      point.foot = static_cast<int>(f);
+      point.local = Eigen::Vector3d(local[0], local[1], local[2]);
+      point.jacobian.setZero(3, model.nu());
+      points_.push_back(std::move(point));
     }
   }
   jacobian_.resize(6, model.nu());
@@ -30,7 +35,8 @@ void GroundContact::calcForces(Workspace& workspace, Eigen::VectorXd& generalize
     const int link = foot_links_[static_cast<size_t>(point.foot)];
     const Eigen::Vector3d position = workspace.findLinkPose(link) * point.local;
     const double depth = -position.z();
-    if (depth <= 0) {
+    point.touching = depth > 0;
+    if (!point.touching) {
       point.anchored = false;  // lifted: the next touchdown anchors afresh
       continue;
     }
@@ -57,11 +63,25 @@ void GroundContact::calcForces(Workspace& workspace, Eigen::VectorXd& generalize
     stiffness.noalias() += jacobian_.bottomRows<3>().transpose() * point_stiffness.asDiagonal() * jacobian_.bottomRows<3>();
     damping.noalias() += jacobian_.bottomRows<3>().transpose() * point_damping.asDiagonal() * jacobian_.bottomRows<3>();
     const Eigen::Vector3d force(tangential.x(), tangential.y(), normal);
+    point.force = force, point.stiffness = point_stiffness, point.damping = point_damping;
+    point.jacobian = jacobian_.bottomRows<3>();
     generalized.noalias() += jacobian_.bottomRows<3>().transpose() * force;
     foot_force_[static_cast<size_t>(point.foot)] += force;
     foot_touches_[static_cast<size_t>(point.foot)] = true;
     deepest_ = std::max(deepest_, depth);
   }
+}
+
+const std::vector<Eigen::Vector3d>& GroundContact::appliedFootForce(const Eigen::VectorXd& u, const Eigen::VectorXd& udot,
+                                                                    double h) {
+  for (Eigen::Vector3d& force : applied_force_) force.setZero();
+  for (const SolePoint& point : points_) {
+    if (!point.touching) continue;
+    const Eigen::Vector3d velocity = point.jacobian * u, acceleration = point.jacobian * udot;
+    applied_force_[static_cast<size_t>(point.foot)] += point.force - point.stiffness.cwiseProduct(h * (velocity + h * acceleration)) -
+                                                        point.damping.cwiseProduct(h * acceleration);
+  }
+  return applied_force_;
 }
 
 }  // namespace syn

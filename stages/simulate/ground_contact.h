@@ -48,7 +48,13 @@ class GroundContact {
   void calcForces(Workspace& workspace, Eigen::VectorXd& generalized, Eigen::MatrixXd& stiffness,
                   Eigen::MatrixXd& damping);
 
+  // Per foot, the force the last call evaluated at the step's start (N, ground).
   const std::vector<Eigen::Vector3d>& footForce() const { return foot_force_; }
+  // Per foot, the force the linearly implicit step applies once it has solved u̇ (h the step):
+  // f − K h (u + h u̇) − B h u̇ over the last call's touching points. This, not footForce(), is what acted:
+  // a sole point coming down at 2.7 m/s evaluates to 5 kN at the step's start, which the implicit terms
+  // take back (CMU 07_06 onto G1: 20.6 kN evaluated, 1.6 kN applied in the same step).
+  const std::vector<Eigen::Vector3d>& appliedFootForce(const Eigen::VectorXd& u, const Eigen::VectorXd& udot, double h);
   // The deepest sole point below z = 0 at the last call (m, ≥ 0).
   double deepestPenetration() const { return deepest_; }
   // Per foot, whether any of its points touched at the last call.
@@ -59,12 +65,16 @@ class GroundContact {
     int foot;
     Eigen::Vector3d local;   // in the foot link's frame
     bool anchored = false;
-    Eigen::Vector2d anchor;  // ground x, y
+    Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // ground x, y
+    // At the last call, if it touched: its force, −∂f/∂p and −∂f/∂ṗ (diagonal), and its Jacobian's rows.
+    bool touching = false;
+    Eigen::Vector3d force = Eigen::Vector3d::Zero(), stiffness = Eigen::Vector3d::Zero(), damping = Eigen::Vector3d::Zero();
+    Eigen::Matrix<double, 3, Eigen::Dynamic> jacobian;
   };
   GroundContactOptions options_;
   std::vector<int> foot_links_;
   std::vector<SolePoint> points_;
-  std::vector<Eigen::Vector3d> foot_force_;
+  std::vector<Eigen::Vector3d> foot_force_, applied_force_;
   std::vector<bool> foot_touches_;
   double deepest_ = 0;
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;

@@ -62,6 +62,10 @@ int main(int argc, char** argv) {
                  "Ground mode: a swinging foot lands up to this far (m) off its planned place, by the capture point's "
                  "error predicted at its touchdown, and the plan walks on from there (0: no stepping)")
       ->capture_default_str();
+  app.add_option("--swing-lift", options.swing_lift,
+                 "Ground mode: a swinging foot is carried up to this much (m) higher than the source's, most at "
+                 "mid-swing, so that it does not scuff the floor and land short (0: the source's height)")
+      ->capture_default_str();
   bool no_joint_limits = false;
   app.add_flag("--no-joint-limits", no_joint_limits,
                "Do not hold joints inside the URDF's position limits (for diagnosis: without them a straightening "

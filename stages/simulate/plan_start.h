@@ -6,7 +6,9 @@
 // cm/s off its plan, which on a 5 cm sole it never caught up. So the base is shifted horizontally by the
 // plan's first shift and given its rate, and each 6-joint leg is re-solved (damped least squares, steps of
 // at most 0.1 rad: a straight knee makes the leg singular) so its foot keeps the pose and velocity it had.
-// A leg with another number of joints is left as it is (its foot moves with the base).
+// A leg with another number of joints is left as it is (its foot moves with the base). The legs stay inside
+// the URDF's limits: where they cannot keep the feet for the whole shift, the base takes the largest of
+// its halves, quarters, ... that they can, and none if no share is reachable.
 #pragma once
 
 #include <Eigen/Core>

@@ -102,6 +102,7 @@ bool SimulateOptions::IsValid(std::string* error) const {
   if (!(damping >= 0 && damping < 1)) return fail("--damping must be in [0, 1), got " + std::to_string(damping));
   if (!(balance_gain >= 0 && balance_gain <= 1e3)) return fail("--balance-gain must be in [0, 1000] 1/s, got " + std::to_string(balance_gain));
   if (!(step_adjustment >= 0 && step_adjustment <= 1)) return fail("--step-adjustment must be in [0, 1] m, got " + std::to_string(step_adjustment));
+  if (!(swing_lift >= 0 && swing_lift <= 0.2)) return fail("--swing-lift must be in [0, 0.2] m, got " + std::to_string(swing_lift));
   if (contact == ContactMode::kGround && integrator != Integrator::kSemiImplicitEuler) {
     return fail("--contact ground needs --integrator euler (the friction anchors move once per step)");
   }
@@ -121,7 +122,8 @@ nlohmann::json SimulateOptions::ToJson() const {
           {"targets", std::string(TargetSourceName(targets))},
           {"integrator", std::string(IntegratorName(integrator))},
           {"no_balance", !balance},
-          {"balance_gain", balance_gain}, {"step_adjustment", step_adjustment}};
+          {"balance_gain", balance_gain}, {"step_adjustment", step_adjustment},
+          {"swing_lift", swing_lift}};
 }
 
 std::string SimulateSummary::BriefReport() const {
@@ -204,6 +206,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     BalanceControllerOptions balance_options;
     balance_options.capture_gain = options.balance_gain;
     balance_options.max_step_shift = options.step_adjustment;
+    balance_options.swing_lift = options.swing_lift;
     balance_options.kp = options.controller.kp;
     balance_options.kv = options.controller.kv;
     balance_options.touch_height = kPlannedContactHeight;
@@ -325,8 +328,9 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
                   p1_angle_count);
     if (ground) {
       const size_t feet = map.feet.size();
+      const std::vector<Eigen::Vector3d>& applied = ground_contact->appliedFootForce(u, udot, dt);
       for (size_t f = 0; f < feet; ++f) {
-        const Eigen::Vector3d& force = ground_contact->footForce()[f];
+        const Eigen::Vector3d& force = applied[f];
         out.contact[static_cast<size_t>(t) * feet + f] = ground_contact->footTouches(f) ? 1 : 0;
         std::copy(force.data(), force.data() + 3, out.contact_force.begin() + static_cast<std::ptrdiff_t>((static_cast<size_t>(t) * feet + f) * 3));
         summary.peak_vertical_force_n = std::max(summary.peak_vertical_force_n, force.z());

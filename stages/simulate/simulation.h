@@ -41,6 +41,9 @@ struct SimulateOptions {
   double balance_gain = 3.5;
   // m: the largest shift of a stepping foot's landing (BalanceController; 0: no stepping).
   double step_adjustment = 0.3;
+  // m: how much higher than the source a swinging foot is carried at mid-swing (BalanceController; 0: as
+  // the source).
+  double swing_lift = 0.04;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;
