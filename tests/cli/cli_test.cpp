@@ -25,8 +25,19 @@ std::vector<std::string> Tools() {
   return tools;
 }
 
+std::filesystem::path ProcessScratchDir() {
+  return std::filesystem::temp_directory_path() / ("syn_cli_" + std::to_string(::getpid()));
+}
+
+// The scratch folder goes when the test program ends (tests leave nothing in the temporary folder).
+class RemoveScratchDir : public ::testing::Environment {
+ public:
+  void TearDown() override { std::filesystem::remove_all(ProcessScratchDir()); }
+};
+::testing::Environment* const kRemoveScratchDir = ::testing::AddGlobalTestEnvironment(new RemoveScratchDir);
+
 std::string ScratchDir() {
-  const auto dir = std::filesystem::temp_directory_path() / ("syn_cli_" + std::to_string(::getpid()));
+  const auto dir = ProcessScratchDir();
   std::filesystem::create_directories(dir);
   return dir.string();
 }
