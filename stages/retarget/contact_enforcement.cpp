@@ -61,6 +61,9 @@ Eigen::Isometry3d PlantedPose(const SoleGeometry& sole, double x, double y, doub
   return pose;
 }
 
+// m: a planted sole centre this far from its plant (horizontally) is counted out of reach.
+constexpr double kOffPlant = 0.005;
+
 double LowestPoint(const SoleGeometry& sole, const Eigen::Isometry3d& pose) {
   double lowest = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3d& point : sole.points) lowest = std::min(lowest, (pose * point).z());
@@ -920,7 +923,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
         const Eigen::Vector3d d = hip_at - wanted;
         const double sideways = d.head<2>().squaredNorm();
         double drop = sideways < reach * reach ? d.z() - std::sqrt(reach * reach - sideways) : cap + 1.0;
-        if (drop > cap) ++out.unreachable_frames, drop = cap;
+        if (drop > cap) ++out.capped_lowering_frames, drop = cap;
         need[static_cast<size_t>(t)] = std::max(need[static_cast<size_t>(t)], drop);
       }
     }
@@ -1055,6 +1058,15 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     }
     iterations += solved.iterations;
     ++out.solved_frames;
+    // A planted foot the legs left off its plant: its sole centre horizontally more than kOffPlant from the
+    // plant's. (The roll about a sole edge at a phase's ends moves the centre under 2 mm.)
+    bool off_plant = false;
+    for (size_t f = 0; f < foot_count; ++f) {
+      if (!active[f] || !contacts.planted(t, f)) continue;
+      const Eigen::Vector3d reached = solver.reached(f) * soles[f].centre, wanted = target[f][static_cast<size_t>(t)] * soles[f].centre;
+      off_plant = off_plant || (reached - wanted).head<2>().norm() > kOffPlant;
+    }
+    out.unreachable_frames += off_plant ? 1 : 0;
     if (drop > 1e-3) ++out.lowered_frames;
     out.max_lowering = std::max(out.max_lowering, drop);
     if (solved.position_error > out.worst_position_error) {

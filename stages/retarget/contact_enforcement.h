@@ -123,7 +123,10 @@ struct ContactEnforcementOptions {
 struct ContactEnforcementReport {
   double max_lowering = 0.0;            // m the base was lowered at most
   int64_t lowered_frames = 0;           // frames lowered by more than 1 mm
-  int64_t unreachable_frames = 0;       // frames a target stayed out of reach (lowering capped, or sideways)
+  // Frames where the legs left a planted foot's sole centre more than 5 mm (horizontally) off its plant.
+  int64_t unreachable_frames = 0;
+  int64_t capped_lowering_frames = 0;   // foot-frames whose plant needed the base lowered past its cap
+
   int64_t solved_frames = 0;            // frames whose legs were re-solved
   double worst_position_error = 0.0;    // m: the largest foot error the leg solve left (a joint limit)
   double worst_angle_error = 0.0;       // rad

@@ -700,7 +700,8 @@ std::string RetargetSummary::BriefReport() const {
           << enforcement.max_base_shift * 1000 << " mm) and to hold plants within the legs' reach and speed in "
           << enforcement.speed_base_moved_frames << " frames, " << enforcement.moved_plants
           << " plants where the foot touched down off the plan, " << enforcement.unreachable_frames
-          << " frames out of reach, worst foot error " << enforcement.worst_position_error * 1000 << " mm / "
+          << " frames with a planted foot out of reach (more than 5 mm off its plant; " << enforcement.capped_lowering_frames
+          << " foot-frames needed the base lowered past its cap), worst foot error " << enforcement.worst_position_error * 1000 << " mm / "
           << enforcement.worst_angle_error * 180 / M_PI << " deg, " << enforcement.rolled_foot_frames
           << " foot-frames rolled onto a sole edge, " << enforcement.lifted_frames
           << " frames with a foot lifted onto its lowest point (" << enforcement.raised_frames << " with the base), "

@@ -267,6 +267,15 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
     // What the stage reports is what an independent FK measures on its output (the issue's thresholds are
     // printed below, not asserted: they do not hold on every trial yet — see the issue note).
     ExpectSummaryMatches(summary, check);
+    // What stays unreachable is reported (issue 17, item 3): a stance the independent FK sees drift past the
+    // issue's p95 bound is one the stage counts frames with a planted foot off its plant for (G1 94_07,
+    // HRP-4C 03_02 and 05_11: 87, 15 and 36 frames; until 2026-11-27 the count was of capped base
+    // lowering only, and said 0 for both HRP-4C trials).
+    const double worst_drift = check.drift.empty() ? 0.0 : *std::max_element(check.drift.begin(), check.drift.end());
+    if (worst_drift > 0.025) {
+      EXPECT_GT(summary.enforcement.unreachable_frames, 0)
+          << "a stance drifts " << 1000 * worst_drift << " mm, and no frame is reported out of reach";
+    }
     floor_met += check.penetrating_fraction <= 0.01;
     skating_met += check.robot_skating <= check.source_skating + 0.05;
     drift_met += Quantile(check.drift, 0.5) <= 0.010 && Quantile(check.drift, 0.95) <= 0.025;
