@@ -7,7 +7,7 @@
 namespace syn {
 
 GroundContact::GroundContact(const Model& model, const std::vector<RobotFoot>& feet, const GroundContactOptions& options)
-    : options_(options), foot_force_(feet.size()), applied_force_(feet.size()), foot_touches_(feet.size(), false) {
+    : options_(options), applied_force_(feet.size()), foot_touches_(feet.size(), false) {
   for (size_t f = 0; f < feet.size(); ++f) {
     foot_links_.push_back(model.findLinkIndex(feet[f].link));
     for (const std::array<double, 3>& local : feet[f].sole_points) {
@@ -27,7 +27,6 @@ void GroundContact::calcForces(Workspace& workspace, Eigen::VectorXd& generalize
   generalized.setZero(nu);
   stiffness.setZero(nu, nu);
   damping.setZero(nu, nu);
-  for (Eigen::Vector3d& force : foot_force_) force.setZero();
   std::fill(foot_touches_.begin(), foot_touches_.end(), false);
   deepest_ = 0;
   const Eigen::VectorXd& u = workspace.getU();
@@ -66,7 +65,6 @@ void GroundContact::calcForces(Workspace& workspace, Eigen::VectorXd& generalize
     point.force = force, point.stiffness = point_stiffness, point.damping = point_damping;
     point.jacobian = jacobian_.bottomRows<3>();
     generalized.noalias() += jacobian_.bottomRows<3>().transpose() * force;
-    foot_force_[static_cast<size_t>(point.foot)] += force;
     foot_touches_[static_cast<size_t>(point.foot)] = true;
     deepest_ = std::max(deepest_, depth);
   }

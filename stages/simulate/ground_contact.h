@@ -40,20 +40,18 @@ class GroundContact {
  public:
   GroundContact(const Model& model, const std::vector<RobotFoot>& feet, const GroundContactOptions& options);
 
-  // The contact forces at the workspace's state (setQ, setU done): `generalized` (nu) = Σ J_pᵀ f_p, and
-  // per foot the sum of its points' forces (N, ground). Moves the friction anchors: call once per step.
+  // The contact forces at the workspace's state (setQ, setU done): `generalized` (nu) = Σ J_pᵀ f_p. Moves
+  // the friction anchors: call once per step.
   // Also the forces' stiffness and damping in generalized coordinates, K = Σ J_pᵀ K_p J_p and
   // B = Σ J_pᵀ B_p J_p (K_p, B_p: −∂f_p/∂p and −∂f_p/∂ṗ of a touching point), for a linearly implicit
   // step: a 0.6 kg foot on a 10⁵ N·s/m Hunt–Crossley damper is unstable for any explicit 1 ms step.
   void calcForces(Workspace& workspace, Eigen::VectorXd& generalized, Eigen::MatrixXd& stiffness,
                   Eigen::MatrixXd& damping);
 
-  // Per foot, the force the last call evaluated at the step's start (N, ground).
-  const std::vector<Eigen::Vector3d>& footForce() const { return foot_force_; }
   // Per foot, the force the linearly implicit step applies once it has solved u̇ (h the step):
-  // f − K h (u + h u̇) − B h u̇ over the last call's touching points. This, not footForce(), is what acted:
-  // a sole point coming down at 2.7 m/s evaluates to 5 kN at the step's start, which the implicit terms
-  // take back (CMU 07_06 onto G1: 20.6 kN evaluated, 1.6 kN applied in the same step).
+  // f − K h (u + h u̇) − B h u̇ over the last call's touching points (N, ground). This, not f at the step's
+  // start, is what acted: a sole point coming down at 2.7 m/s evaluates to 5 kN at the step's start, which
+  // the implicit terms take back (CMU 07_06 onto G1: 20.6 kN evaluated, 1.6 kN applied in the same step).
   const std::vector<Eigen::Vector3d>& appliedFootForce(const Eigen::VectorXd& u, const Eigen::VectorXd& udot, double h);
   // The deepest sole point below z = 0 at the last call (m, ≥ 0).
   double deepestPenetration() const { return deepest_; }
@@ -74,7 +72,7 @@ class GroundContact {
   GroundContactOptions options_;
   std::vector<int> foot_links_;
   std::vector<SolePoint> points_;
-  std::vector<Eigen::Vector3d> foot_force_, applied_force_;
+  std::vector<Eigen::Vector3d> applied_force_;
   std::vector<bool> foot_touches_;
   double deepest_ = 0;
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/support/run_command.h"
+#include "tests/support/scratch_file.h"
 #include "tests/support/shared_data.h"
 
 namespace syn::testing {
@@ -25,22 +26,7 @@ std::vector<std::string> Tools() {
   return tools;
 }
 
-std::filesystem::path ProcessScratchDir() {
-  return std::filesystem::temp_directory_path() / ("syn_cli_" + std::to_string(::getpid()));
-}
-
-// The scratch folder goes when the test program ends (tests leave nothing in the temporary folder).
-class RemoveScratchDir : public ::testing::Environment {
- public:
-  void TearDown() override { std::filesystem::remove_all(ProcessScratchDir()); }
-};
-::testing::Environment* const kRemoveScratchDir = ::testing::AddGlobalTestEnvironment(new RemoveScratchDir);
-
-std::string ScratchDir() {
-  const auto dir = ProcessScratchDir();
-  std::filesystem::create_directories(dir);
-  return dir.string();
-}
+std::string ScratchDir() { return ProcessScratchDir("syn_cli_").string(); }
 
 TEST(Cli, ToolsAreBuilt) {
   const auto tools = Tools();

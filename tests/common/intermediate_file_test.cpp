@@ -9,25 +9,13 @@
 #include <iterator>
 
 #include "common/error.h"
+#include "tests/support/scratch_file.h"
 
 namespace syn {
 namespace {
 
-std::filesystem::path ProcessScratchDir() {
-  return std::filesystem::temp_directory_path() / ("syn_test_" + std::to_string(::getpid()));
-}
-
-// The scratch folder goes when the test program ends (tests leave nothing in the temporary folder).
-class RemoveScratchDir : public ::testing::Environment {
- public:
-  void TearDown() override { std::filesystem::remove_all(ProcessScratchDir()); }
-};
-::testing::Environment* const kRemoveScratchDir = ::testing::AddGlobalTestEnvironment(new RemoveScratchDir);
-
 std::string TempPath(const std::string& name) {
-  const auto dir = ProcessScratchDir();
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
+  return (testing::ProcessScratchDir("syn_test_") / name).string();
 }
 
 std::string Bytes(const std::string& path) {

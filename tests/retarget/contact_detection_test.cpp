@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -74,6 +75,19 @@ int PhasesOf(const FootContacts& contacts, int foot) {
   int phases = 0;
   for (const ContactPhase& phase : contacts.phases) phases += phase.foot == foot;
   return phases;
+}
+
+// A walk's two feet: each planted in min_phases..max_phases phases and for 30-75 % of the frames (stance is
+// about 60 % of a human gait cycle).
+void ExpectWalkingStances(const FootContacts& contacts, int min_phases, int max_phases) {
+  for (int f = 0; f < 2; ++f) {
+    const int phases = PhasesOf(contacts, f);
+    EXPECT_GE(phases, min_phases) << "foot " << f;
+    EXPECT_LE(phases, max_phases) << "foot " << f;
+    const double fraction = static_cast<double>(contacts.framesInContact(f)) / static_cast<double>(contacts.frames);
+    EXPECT_GT(fraction, 0.3) << "foot " << f;
+    EXPECT_LT(fraction, 0.75) << "foot " << f;
+  }
 }
 
 // s: the longest run of frames with neither of two feet planted (walking has no flight phase).
@@ -156,14 +170,7 @@ TEST(ContactDetection, CmuWalkAlternatesItsFeet) {
   // 02_01 is 2.9 s of walking, about 2.5 strides: each foot is planted 2–4 times, for 30–75 % of the
   // frames (stance is ~60 % of a human gait cycle), and at every frame at least one foot is down or
   // the walk is in a swing of at most 0.15 s (walking has no flight phase; detection edges blur it).
-  for (int f = 0; f < 2; ++f) {
-    const int phases = PhasesOf(contacts, f);
-    EXPECT_GE(phases, 2) << "foot " << f;
-    EXPECT_LE(phases, 4) << "foot " << f;
-    const double fraction = static_cast<double>(contacts.framesInContact(f)) / static_cast<double>(contacts.frames);
-    EXPECT_GT(fraction, 0.3) << "foot " << f;
-    EXPECT_LT(fraction, 0.75) << "foot " << f;
-  }
+  ExpectWalkingStances(contacts, 2, 4);
   // The capture begins with the right foot at rest before its heel rises (9 frames): planted, though
   // shorter than the minimum duration, since the recording cut it.
   EXPECT_TRUE(contacts.at(0, 1)) << "the right foot at the first frame";
@@ -270,13 +277,7 @@ TEST(ContactDetection, CmuTerrainWalkAlternatesItsFeet) {
   const std::vector<std::vector<Eigen::Vector3d>> feet = CmuFootLandmarks("03/03_01.bvh", "03_01", capture);
   ASSERT_EQ(feet.size(), 2u);
   const FootContacts contacts = DetectContacts(feet, capture.time_s, {});
-  for (int f = 0; f < 2; ++f) {
-    const int phases = PhasesOf(contacts, f);
-    EXPECT_GE(phases, 3) << "foot " << f;
-    const double fraction = static_cast<double>(contacts.framesInContact(f)) / static_cast<double>(contacts.frames);
-    EXPECT_GT(fraction, 0.3) << "foot " << f;
-    EXPECT_LT(fraction, 0.75) << "foot " << f;
-  }
+  ExpectWalkingStances(contacts, 3, std::numeric_limits<int>::max());
   // Walking has no flight: at most a short gap (detection edges) with neither foot planted, after the
   // first step.
   EXPECT_LE(LongestGapWithNoFootPlanted(contacts, capture.rate_hz), 0.25);

@@ -140,6 +140,14 @@ class GroundMode : public ::testing::Test {
   SimulateOptions options;
 };
 
+// Whether `input` (its contact flags) plants the foot of `side` at frame t; false where it has no such foot.
+bool SourcePlants(const MotionData& input, const std::string& side, int64_t t) {
+  for (size_t c = 0; c < input.contact_feet.size(); ++c) {
+    if (input.contact_feet[c] == side) return input.contact[static_cast<size_t>(t) * input.contact_feet.size() + c] != 0;
+  }
+  return false;
+}
+
 // Of the recorded frames where `input` plants a foot and the simulated `output` has it touching the floor,
 // the fraction whose sole (its link's x-y plane, the robot map's sole points sharing their z) is more than 3°
 // off flat: from the URDF by the tests' own forward kinematics, not the stage's.
@@ -151,11 +159,7 @@ double TiltedStanceFraction(const RobotMap& map, const MotionData& input, const 
     const std::map<std::string, Eigen::Isometry3d> poses =
         fk.poses(output.coordinate_names, &output.q[static_cast<size_t>(t * output.nq())], true);
     for (size_t f = 0; f < feet && f < map.feet.size(); ++f) {
-      bool planted = false;
-      for (size_t c = 0; c < input.contact_feet.size(); ++c) {
-        if (input.contact_feet[c] == map.feet[f].side) planted = input.contact[static_cast<size_t>(t) * input.contact_feet.size() + c] != 0;
-      }
-      if (!planted || output.contact[static_cast<size_t>(t) * feet + f] == 0) continue;
+      if (!SourcePlants(input, map.feet[f].side, t) || output.contact[static_cast<size_t>(t) * feet + f] == 0) continue;
       ++held;
       const Eigen::Vector3d normal = poses.at(map.feet[f].link).linear().col(2);
       if (std::acos(std::clamp(normal.z(), -1.0, 1.0)) > 3.0 * M_PI / 180.0) ++tilted;
@@ -343,12 +347,7 @@ double MedianMidSwingClearance(const RobotMap& map, const MotionData& input, con
   const testing::IndependentFk fk(SourcePath(testing::kG1Urdf));
   std::vector<double> clearance;
   for (size_t f = 0; f < map.feet.size(); ++f) {
-    int column = -1;
-    for (size_t c = 0; c < input.contact_feet.size(); ++c) {
-      if (input.contact_feet[c] == map.feet[f].side) column = static_cast<int>(c);
-    }
-    if (column < 0) continue;
-    const auto planted = [&](int64_t t) { return input.contact[static_cast<size_t>(t) * input.contact_feet.size() + static_cast<size_t>(column)] != 0; };
+    const auto planted = [&](int64_t t) { return SourcePlants(input, map.feet[f].side, t); };
     for (int64_t t = 1, start = -1; t < input.frames(); ++t) {
       if (!planted(t) && planted(t - 1)) start = t;
       if (planted(t) && !planted(t - 1) && start >= 0) {
