@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numeric>
 #include <utility>
 
@@ -705,73 +704,6 @@ bool HoldPlantsWithinSpeed(const BaseMover& mover, TreeKinematics& tree, LegSolv
   return true;
 }
 
-// The last word for a plant the foot already stands on (issue 17: contacts rank above every task). Where the
-// passes above still leave a foot that was planted the frame before, in the same phase, horizontally off its
-// plant (legs on several limits at once: in CMU 94_07's deep squat G1's right hip pitch, hip roll and ankle
-// roll all end on their limits, and its right plant slid 51 mm), the pelvis goes only part of the way from
-// the previous frame's pose, on which those legs stood on their plants, towards this frame's: the largest
-// share (by bisection) with which every such plant's sole centre stays within kPlantPositionTolerance of the
-// plan's, horizontally, and no sole point goes into the floor. Where even the previous pose does not hold
-// them (the previous frame had slipped already), it is taken if it slips less. The pelvis lags its task for those frames; the caller carries the lag into the next
-// frame, from where it eases out as the other pelvis moves do (without that carry the pelvis jumped back at
-// the phase's end and HRP-4C's 05_11 slid 175 mm). Returns the share taken (1: nothing changed), leaving
-// frame_q and the solver's reached poses at it; `lag` is the pelvis move made. `tracked` is scratch.
-constexpr int kLagBisections = 6;
-
-double WorstSlip(const std::vector<SoleGeometry>& soles, const LegSolver& solver, const std::vector<Eigen::Isometry3d>& plans,
-                 const std::vector<bool>& held, const std::vector<bool>& active) {
-  double worst = 0.0;
-  for (size_t f = 0; f < soles.size(); ++f) {
-    if (!active[f]) continue;
-    const Eigen::Isometry3d& reached = solver.reached(f);
-    if (LowestPoint(soles[f], reached) < -kFloorTolerance) return std::numeric_limits<double>::infinity();
-    if (held[f]) worst = std::max(worst, ((reached * soles[f].centre) - (plans[f] * soles[f].centre)).head<2>().norm());
-  }
-  return worst;
-}
-
-double LagPelvisToHoldPlants(const BaseMover& mover, TreeKinematics& tree, LegSolver& solver, const std::vector<LegChain>& chains,
-                             const std::vector<SoleGeometry>& soles, const std::vector<Eigen::Isometry3d>& plans,
-                             const std::vector<Eigen::Isometry3d>& targets, const std::vector<bool>& held,
-                             const std::vector<bool>& active, const Eigen::VectorXd& before, double step_time, const std::vector<bool>& unbounded, Eigen::VectorXd& tracked,
-                             Eigen::VectorXd& frame_q, Vector6d& lag) {
-  lag.setZero();
-  if (!mover.canMove() || std::none_of(held.begin(), held.end(), [](bool h) { return h; })) return 1.0;
-  const double slip = WorstSlip(soles, solver, plans, held, active);
-  if (slip <= kPlantPositionTolerance) return 1.0;
-  tracked = frame_q;
-  tree.setQ(tracked);
-  const Eigen::Isometry3d here = tree.linkPose(mover.link());
-  tree.setQ(before);
-  const Correction back = Between(tree.linkPose(mover.link()), here);
-  Vector6d to_previous;
-  to_previous << back.rotation, back.translation;
-  const auto place = [&](double share) {
-    frame_q = tracked;
-    mover.apply((1.0 - share) * to_previous, frame_q);
-    ContinueLegs(chains, before, true, false, frame_q);
-    solver.solve(targets, active, frame_q, 0.0, &before, step_time, &unbounded);
-    return WorstSlip(soles, solver, plans, held, active);
-  };
-  const double at_previous = place(0.0);
-  double share = 0.0;
-  if (at_previous <= kPlantPositionTolerance) {
-    double failing = 1.0;
-    for (int k = 0; k < kLagBisections; ++k) {
-      const double middle = 0.5 * (share + failing);
-      (place(middle) <= kPlantPositionTolerance ? share : failing) = middle;
-    }
-    place(share);
-  } else if (!(at_previous < slip)) {
-    // The previous pose holds no better (the plant itself moved: a roll about its edge); keep the passes' answer.
-    frame_q = tracked;
-    solver.solve(targets, active, frame_q, 0.0, &before, step_time, &unbounded);
-    return 1.0;
-  }
-  lag = (1.0 - share) * to_previous;
-  return share;
-}
-
 // Touchdown: the plant is where the foot touched down. Where the leg's speed limits kept the foot from the
 // planned plant at a phase's first frame `t` (HRP-4C's legs, 1.9-3 rad/s, cannot swing at a person's pace),
 // the plant moves in the floor's plane to where the foot landed, for the whole phase, and the move eases
@@ -1014,8 +946,6 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   Vector6d speed_move = Vector6d::Zero();  // HoldPlantsWithinSpeed's pelvis move, carried from frame to frame
   HoldScratch hold_scratch;
   Eigen::VectorXd before_speed_move(nq);  // the frame before that move, to re-apply a changed one
-  Eigen::VectorXd lag_scratch(nq);                   // LagPelvisToHoldPlants' scratch
-  std::vector<Eigen::Isometry3d> frame_plans(foot_count);  // each foot's plan this frame, before the floor rounds
   // Per foot and frame, the contact phase that begins there (-1: none).
   std::vector<std::vector<int>> phase_begins(foot_count, std::vector<int>(static_cast<size_t>(frames), -1));
   for (size_t p = 0; p < contacts.phases.size(); ++p) {
@@ -1125,18 +1055,6 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
       }
       const LegSolveResult again = solver.solve(frame_targets, retry, frame_q, 0.0, &before, step_time, &planted);
       solved.iterations += again.iterations;
-    }
-    if (options.move_base_for_plants && t > 0) {
-      for (size_t f = 0; f < foot_count; ++f) {
-        held[f] = active[f] && contacts.planted(t, f) && contacts.planted(t - 1, f) && phase_begins[f][static_cast<size_t>(t)] < 0;
-      }
-      for (size_t f = 0; f < foot_count; ++f) frame_plans[f] = target[f][static_cast<size_t>(t)];
-      Vector6d lag;
-      if (LagPelvisToHoldPlants(mover, tree, solver, chains, soles, frame_plans, frame_targets, held, active, before,
-                                step_time, planted, lag_scratch, frame_q, lag) < 1.0) {
-        speed_move += lag;
-        ++out.lagged_pelvis_frames;
-      }
     }
     iterations += solved.iterations;
     ++out.solved_frames;

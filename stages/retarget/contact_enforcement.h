@@ -70,10 +70,7 @@
 //    it there, the base rises too. Where the leg's limits leave a
 //    sole point below the floor (the ankle cannot bend as far as the body passes
 //    over the planted foot), the target rolls about the toe or heel edge the
-//    foot pitches onto, and the leg is solved again. Last, where a foot planted since the previous frame is
-//    still more than 1 mm off its plant (legs on several limits at once), the pelvis goes only as far from
-//    the previous frame's pose towards this frame's as the planted legs follow; that lag eases out as the
-//    other pelvis moves do.
+//    foot pitches onto, and the leg is solved again.
 //
 // How much a trial needed each step is reported, so a user sees where the
 // tracked motion and the contacts disagreed.
@@ -141,7 +138,6 @@ struct ContactEnforcementReport {
   int64_t moved_plants = 0;             // contact phases planted where the foot touched down, off the plan
   int64_t speed_base_moved_frames = 0;  // frames whose pelvis moved so that planted legs hold within their speed
   int64_t raised_frames = 0;            // of those, frames whose base rose too (the leg could not lift the foot)
-  int64_t lagged_pelvis_frames = 0;     // frames whose pelvis stayed back towards the previous frame's to hold a plant
   int64_t base_moved_frames = 0;        // frames whose pelvis moved so that a planted leg reaches its plant
   double max_base_turn = 0.0;           // rad: the largest such rotation
   double max_base_shift = 0.0;          // m: the largest such translation

@@ -698,8 +698,7 @@ std::string RetargetSummary::BriefReport() const {
           << " mm (" << enforcement.lowered_frames << " frames), pelvis moved for a plant in "
           << enforcement.base_moved_frames << " frames (up to " << enforcement.max_base_turn * 180 / M_PI << " deg, "
           << enforcement.max_base_shift * 1000 << " mm) and to hold plants within the legs' reach and speed in "
-          << enforcement.speed_base_moved_frames << " frames, held back towards the previous frame's to keep a plant in "
-          << enforcement.lagged_pelvis_frames << " frames, " << enforcement.moved_plants
+          << enforcement.speed_base_moved_frames << " frames, " << enforcement.moved_plants
           << " plants where the foot touched down off the plan, " << enforcement.unreachable_frames
           << " frames with a planted foot out of reach (more than 5 mm off its plant; " << enforcement.capped_lowering_frames
           << " foot-frames needed the base lowered past its cap), worst foot error " << enforcement.worst_position_error * 1000 << " mm / "
