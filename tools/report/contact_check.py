@@ -6,7 +6,8 @@ shares no code with syn-retarget.
 
 Per motion: the share of frames with a sole point more than 1 cm below z = 0 and the deepest point; per
 source contact phase (motion.h5 `contact`), the sole centre's largest horizontal distance from where the phase
-began (median and p95 over the phases); GMD's foot-skating ratio (lowest sole point within 5 cm, sole centre
+began (median and p95 over the phases) and its lowest sole point's largest height above the floor (a planted
+foot that lands late or hops; median, p95 and max over the phases); GMD's foot-skating ratio (lowest sole point within 5 cm, sole centre
 faster than 0.5 m/s over a centred 0.05 s window) of the robot and of the source's foot targets
 (landmark_targets, the capture scaled to the robot, with the robot's soles, lowered so the planted frames'
 median lowest point is on the floor); the knees' lowest angle. With --plot, one PNG per motion: sole height,
@@ -74,7 +75,7 @@ def check(robot, feet, path, plot_dir):
             if "contact_feet" in file else [side for side, _, _ in feet]
     result = {"motion": path, "frames": len(time)}
     lowest_all = np.full(len(time), np.inf)
-    robot_feet, source_feet, drifts, per_foot = [], [], [], {}
+    robot_feet, source_feet, drifts, lifts, per_foot = [], [], [], [], {}
     for side, link, soles in feet:
         i = robot.index[link]
         points = sole_points(rotations[:, i], positions[:, i], soles)
@@ -86,6 +87,7 @@ def check(robot, feet, path, plot_dir):
         planted = contact[:, f] if contact is not None and f >= 0 else np.zeros(len(time), dtype=bool)
         for begin, end in phases(planted):
             drifts.append(float(np.max(np.linalg.norm(centre[begin:end] - centre[begin], axis=1))))
+            lifts.append(float(max(0.0, np.max(lowest[begin:end]))))
         per_foot[side] = (lowest, centre, planted)
         task = motion.get("landmark_names", []).index(f"{side}_foot") if f"{side}_foot" in motion.get("landmark_names", []) else -1
         if task >= 0:
@@ -105,6 +107,9 @@ def check(robot, feet, path, plot_dir):
         "drift_median_mm": float(np.median(drifts) * 1000) if drifts else 0.0,
         "drift_p95_mm": float(np.percentile(drifts, 95, method="inverted_cdf") * 1000) if drifts else 0.0,
         "drift_max_mm": float(max(drifts) * 1000) if drifts else 0.0,
+        "lift_median_mm": float(np.median(lifts) * 1000) if lifts else 0.0,
+        "lift_p95_mm": float(np.percentile(lifts, 95, method="inverted_cdf") * 1000) if lifts else 0.0,
+        "lift_max_mm": float(max(lifts) * 1000) if lifts else 0.0,
         "skating": skating(time, robot_feet),
         "source_skating": skating(time, [(lowest - level, centre) for lowest, centre, _ in source_feet]),
         "lowest_knee_rad": float(q[:, knee_columns].min()) if knee_columns else None,
@@ -148,11 +153,13 @@ def main():
     robot = Robot(args.urdf)
     feet = read_feet(args.robot_map)
     results = [check(robot, feet, path, args.plot) for path in args.motions]
-    print(f"{'motion':40s} {'pen%':>6s} {'deep':>6s} {'drift50':>8s} {'drift95':>8s} {'skate':>6s} {'source':>6s} {'knee':>6s}")
+    print(f"{'motion':40s} {'pen%':>6s} {'deep':>6s} {'drift50':>8s} {'drift95':>8s} {'skate':>6s} {'source':>6s} {'knee':>6s}"
+          f" {'lift95':>7s} {'liftmax':>7s}")
     for r in results:
         print(f"{os.path.basename(r['motion']):40s} {100 * r['penetrating_frames']:6.2f} {r['deepest_mm']:6.1f} "
               f"{r['drift_median_mm']:8.1f} {r['drift_p95_mm']:8.1f} {r['skating']:6.3f} {r['source_skating']:6.3f} "
-              f"{r['lowest_knee_rad'] if r['lowest_knee_rad'] is not None else float('nan'):6.3f}")
+              f"{r['lowest_knee_rad'] if r['lowest_knee_rad'] is not None else float('nan'):6.3f}"
+              f" {r['lift_p95_mm']:7.1f} {r['lift_max_mm']:7.1f}")
     if args.json:
         with open(args.json, "w") as file:
             json.dump(results, file, indent=1)
