@@ -70,7 +70,9 @@
 //    it there, the base rises too. Where the leg's limits leave a
 //    sole point below the floor (the ankle cannot bend as far as the body passes
 //    over the planted foot), the target rolls about the toe or heel edge the
-//    foot pitches onto, and the leg is solved again.
+//    foot pitches onto, and the leg is solved again. Before those floor rounds, a planted foot left above
+//    the floor (a leg at full stretch, or too slow to bring the foot down at touchdown) brings the base
+//    down onto it, where no other foot pays for it (slides, sinks, or leaves its target).
 //
 // How much a trial needed each step is reported, so a user sees where the
 // tracked motion and the contacts disagreed.
@@ -138,6 +140,8 @@ struct ContactEnforcementReport {
   int64_t moved_plants = 0;             // contact phases planted where the foot touched down, off the plan
   int64_t speed_base_moved_frames = 0;  // frames whose pelvis moved so that planted legs hold within their speed
   int64_t raised_frames = 0;            // of those, frames whose base rose too (the leg could not lift the foot)
+  int64_t lowered_onto_plant_frames = 0;  // frames whose base came down onto a planted foot its leg left in the air
+  double max_lowering_onto_plant = 0.0;   // m: the largest such step down
   int64_t base_moved_frames = 0;        // frames whose pelvis moved so that a planted leg reaches its plant
   double max_base_turn = 0.0;           // rad: the largest such rotation
   double max_base_shift = 0.0;          // m: the largest such translation

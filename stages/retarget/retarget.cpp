@@ -705,6 +705,8 @@ std::string RetargetSummary::BriefReport() const {
           << enforcement.worst_angle_error * 180 / M_PI << " deg, " << enforcement.rolled_foot_frames
           << " foot-frames rolled onto a sole edge, " << enforcement.lifted_frames
           << " frames with a foot lifted onto its lowest point (" << enforcement.raised_frames << " with the base), "
+          << enforcement.lowered_onto_plant_frames << " frames with the base lowered onto a planted foot left in the air (up to "
+          << enforcement.max_lowering_onto_plant * 1000 << " mm), "
           << enforcement.clearance_frames << " frames with a swing foot raised to the source's clearance, "
           << enforcement.overspeed_joint_frames << " leg joint-frames over their URDF velocity limit";
       if (enforcement.worst_speed_frame >= 0) {
