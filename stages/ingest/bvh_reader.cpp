@@ -294,6 +294,30 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
     return std::all_of(row, row + channel_count, [](double value) { return value == 0.0; });
   };
   while (first > 0 && first + 1 < frames_read && all_zero(first)) ++first;
+  // And others leave a joint on the rest pose for one frame more: every rotation channel of that joint
+  // exactly zero, the next frame turning it (cgspeed's CMU 05_01: the right ankle, whose foot then turns
+  // 22° in 1/120 s against 5° a frame after; 08_04's left ankle, 03_01's right knee). Those frames are not
+  // part of the take either; a joint that stays at zero (a finger no one captured) is no sign.
+  const auto joint_left_at_rest = [&](int64_t frame) {
+    const double* row = &values[static_cast<size_t>(frame) * static_cast<size_t>(channel_count)];
+    const double* next = row + channel_count;
+    for (const BvhJoint& joint : joints) {
+      bool at_rest = false, moves_next = false;
+      for (size_t c = 0; c < joint.channels.size(); ++c) {
+        if (joint.channels[c] < Channel::kXrotation) continue;
+        const int index = joint.first_channel + static_cast<int>(c);
+        if (row[index] != 0.0) {
+          at_rest = false;
+          break;
+        }
+        at_rest = true;
+        moves_next = moves_next || next[index] != 0.0;
+      }
+      if (at_rest && moves_next) return true;
+    }
+    return false;
+  };
+  while (first > 0 && first + 1 < frames_read && joint_left_at_rest(first)) ++first;
   // Others ease in from it over a few frames (the lawrennd, Przestr and papagina copies of CMU: 4-5 frames,
   // 2° to 13-25° RMS from the rest pose), the hands sweeping 18 cm in 17 ms: a start no body makes, and one
   // that led the retargeted G1 of CMU 12_02 into a crouch it then kept the whole take (pelvis 10 cm under

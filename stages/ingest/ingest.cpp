@@ -120,7 +120,9 @@ std::string IngestSummary::BriefReport() const {
   if (dropped_lead_frames > 1) {
     const int64_t zero_frames = dropped_lead_frames - 1 - dropped_ease_in_frames;
     out << "; the first " << dropped_lead_frames << " frames dropped (the calibration frame, kept aside";
-    if (zero_frames > 0) out << "; " << zero_frames << " all-zero reference frame" << (zero_frames > 1 ? "s" : "");
+    if (zero_frames > 0) {
+      out << "; " << zero_frames << " reference frame" << (zero_frames > 1 ? "s" : "") << " left at zero, whole or a joint";
+    }
     if (dropped_ease_in_frames > 0) out << "; " << dropped_ease_in_frames << " easing in from it";
     out << ")";
   }

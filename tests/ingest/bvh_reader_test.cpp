@@ -131,6 +131,52 @@ TEST(BvhReader, DropFirstFrameAlsoDropsAllZeroReferenceFramesAfterIt) {
   EXPECT_EQ(ParseBvh(three, "three.bvh", {}).frame_count(), 4);
 }
 
+// Others leave one joint on the rest pose for a frame after the reference frame (cgspeed's CMU 05_01: the
+// right ankle): that frame goes too. A joint that stays at zero through the take does not count.
+TEST(BvhReader, DropFirstFrameAlsoDropsAFrameThatLeavesAJointAtRest) {
+  // Frames: reference (all zero), the arm still at rest while the root has turned, then the take.
+  const std::string partial = With(With(kTwoBones, "Frames: 2", "Frames: 4"), "0 0 0 90 0 0 0 90 0\n",
+                                   "0 0 0 30 0 0 0 0 0\n0 0 0 31 0 0 40 0 0\n0 0 0 32 0 0 41 0 0\n");
+  BvhOptions options;
+  options.drop_first_frame = true;
+  const MarkerData dropped = ParseBvh(partial, "partial.bvh", options);
+  ASSERT_EQ(dropped.frame_count(), 2);
+  EXPECT_EQ(dropped.metadata.at("bvh").at("dropped_lead_frames"), 2);
+  EXPECT_EQ(dropped.metadata.at("bvh").at("dropped_ease_in_frames"), 0);
+  // The first kept frame is the one whose arm turned: the root 31° and the arm 40° about z, 71° from x.
+  const Eigen::Vector3d arm = Position(dropped, 0, 2) - Position(dropped, 0, 1);
+  EXPECT_NEAR(std::atan2(arm.y(), arm.x()) * 180 / M_PI, 71.0, 1e-9);
+  // An arm at zero throughout is kept from frame 1.
+  const std::string still = With(With(kTwoBones, "Frames: 2", "Frames: 4"), "0 0 0 90 0 0 0 90 0\n",
+                                 "0 0 0 30 0 0 0 0 0\n0 0 0 31 0 0 0 0 0\n0 0 0 32 0 0 0 0 0\n");
+  EXPECT_EQ(ParseBvh(still, "still.bvh", options).frame_count(), 3);
+}
+
+// The real files: cgspeed's 05_01, 08_04 and 03_01 leave an ankle or a knee at rest in their frame 1.
+TEST(BvhReader, RealCmuFramesLeavingAJointAtRestAreDropped) {
+  SYN_REQUIRE_SHARED("cmu_bvh");
+  BvhOptions options;
+  options.drop_first_frame = true;
+  for (const char* file : {"05/05_01.bvh", "08/08_04.bvh", "03/03_01.bvh"}) {
+    const MarkerData data = ReadBvh(testing::SharedPath(std::string("cmu_bvh/") + file), options);
+    EXPECT_EQ(data.metadata.at("bvh").at("dropped_lead_frames"), 2) << file;
+    // The take now starts moving as it goes on: no body turns more between its first two frames than
+    // twice its largest turn between the next two (05_01's right foot turned 22° against 5° before).
+    double first_step = 0.0, next_step = 0.0;
+    for (size_t b = 0; b < data.bodies.size(); ++b) {
+      const auto turn = [&](int64_t from, int64_t to) {
+        const double* p = &data.body_pose[(static_cast<size_t>(from) * data.bodies.size() + b) * 7 + 3];
+        const double* q = &data.body_pose[(static_cast<size_t>(to) * data.bodies.size() + b) * 7 + 3];
+        const double dot = std::abs(p[0] * q[0] + p[1] * q[1] + p[2] * q[2] + p[3] * q[3]);
+        return 2 * std::acos(std::min(1.0, dot));
+      };
+      first_step = std::max(first_step, turn(0, 1));
+      next_step = std::max(next_step, turn(1, 2));
+    }
+    EXPECT_LT(first_step, 2 * next_step) << file << ": " << first_step * 180 / M_PI << " deg then " << next_step * 180 / M_PI;
+  }
+}
+
 // kTwoBones at 120 Hz with `arm_z` as the arm's Z rotation, frame by frame.
 std::string ArmTake(const std::vector<double>& arm_z) {
   std::string text = std::string(kTwoBones).substr(0, std::string(kTwoBones).find("Frames:"));

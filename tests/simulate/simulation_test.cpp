@@ -430,7 +430,11 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
   EXPECT_EQ(walks, 21);
   // 2026-11-28: 14 up (8 before the planned forces on sole points within 2 cm and the torques that keep
   // the held feet); over nearby balance settings 11-14 (balance_controller.h).
-  EXPECT_GE(up, 11);
+  // 2026-11-27 (session 27): 15 up, since the BVH reader drops the frame after the reference frame where a
+  // joint is still at rest (bvh_reader.cpp): 05_01's right ankle there had begun the simulation with the
+  // retargeted body moving 0.84 m/s sideways, and it fell in all 8 balance settings; now it stays up in all
+  // 8. Over the 8 settings 12-15, mean 13.75 (12.88 without).
+  EXPECT_GE(up, 13);
 }
 
 }  // namespace
