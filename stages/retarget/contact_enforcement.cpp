@@ -718,59 +718,63 @@ bool HoldPlantsWithinSpeed(const BaseMover& mover, TreeKinematics& tree, LegSolv
 // the planted foot rises 48 mm). Returns the leg solver's iterations.
 constexpr double kLiftTolerance = 1e-3;  // m a planted sole's lowest point may stay above the floor
 constexpr int kLiftRounds = 3;
-constexpr size_t kMaxFeet = 4;  // feet a robot map may have here (more are left as they are)
 
+// Per foot, how far the legs leave it off its target: its sole centre's distance (horizontal for a planted
+// foot, whose height is `lift`'s) and its depth under the floor; and the planted feet's largest lift.
+struct FootMisses {
+  std::vector<double> slip, depth;
+  double lift = 0.0;
+};
+
+void MeasureFootMisses(const LegSolver& solver, const std::vector<SoleGeometry>& soles, const FootContacts& contacts, int64_t t,
+                       const std::vector<Eigen::Isometry3d>& targets, const std::vector<bool>& active, FootMisses& misses) {
+  misses.slip.assign(soles.size(), 0.0);
+  misses.depth.assign(soles.size(), 0.0);
+  misses.lift = 0.0;
+  for (size_t f = 0; f < soles.size(); ++f) {
+    if (!active[f]) continue;
+    const Eigen::Isometry3d& reached = solver.reached(f);
+    const double lowest = LowestPoint(soles[f], reached);
+    const Eigen::Vector3d off = (reached * soles[f].centre) - (targets[f] * soles[f].centre);
+    misses.depth[f] = std::max(0.0, -lowest);
+    if (contacts.planted(t, f)) {
+      misses.slip[f] = off.head<2>().norm();
+      misses.lift = std::max(misses.lift, lowest);
+    } else {
+      misses.slip[f] = off.norm();
+    }
+  }
+}
+
+// `kept`, `misses` and `lowered_misses` are the caller's scratch (sized once: nothing allocated per frame).
 int LowerOntoLiftedPlants(LegSolver& solver, const std::vector<SoleGeometry>& soles, const FootContacts& contacts, int64_t t,
                           const std::vector<Eigen::Isometry3d>& targets, const std::vector<bool>& active,
                           const Eigen::VectorXd& before, double step_time, const std::vector<bool>& unbounded,
                           int64_t vertical_coordinate, Eigen::VectorXd& frame_q, Eigen::VectorXd& kept,
-                          ContactEnforcementReport& out) {
+                          FootMisses& misses, FootMisses& lowered_misses, ContactEnforcementReport& out) {
   int iterations = 0;
-  const size_t feet = soles.size();
-  // Per foot: how far its sole centre is off its target (horizontally for a planted foot, whose lift is
-  // measured apart), and how deep it is; returns the planted feet's largest lift.
-  double slip[kMaxFeet] = {}, depth[kMaxFeet] = {};
-  const auto measure = [&](double* slips, double* depths) {
-    double lift = 0.0;
-    for (size_t f = 0; f < feet && f < kMaxFeet; ++f) {
-      if (!active[f]) continue;
-      const Eigen::Isometry3d& reached = solver.reached(f);
-      const double lowest = LowestPoint(soles[f], reached);
-      const Eigen::Vector3d off = (reached * soles[f].centre) - (targets[f] * soles[f].centre);
-      depths[f] = std::max(0.0, -lowest);
-      if (contacts.planted(t, f)) {
-        slips[f] = off.head<2>().norm();
-        lift = std::max(lift, lowest);
-      } else {
-        slips[f] = off.norm();
-      }
-    }
-    return lift;
-  };
-  double lift = measure(slip, depth);
+  MeasureFootMisses(solver, soles, contacts, t, targets, active, misses);
   bool lowered = false;
-  for (int round = 0; round < kLiftRounds && lift > kLiftTolerance; ++round) {
+  for (int round = 0; round < kLiftRounds && misses.lift > kLiftTolerance; ++round) {
     kept = frame_q;
-    frame_q[vertical_coordinate] -= lift;
+    frame_q[vertical_coordinate] -= misses.lift;
     iterations += solver.solve(targets, active, frame_q, 0.0, &before, step_time, &unbounded).iterations;
-    double new_slip[kMaxFeet] = {}, new_depth[kMaxFeet] = {};
-    const double new_lift = measure(new_slip, new_depth);
+    MeasureFootMisses(solver, soles, contacts, t, targets, active, lowered_misses);
     // Only if no other foot pays for it: a slow leg (HRP-4C's) asked to bend further slid its planted
     // foot instead; a leg just lifted off (G1 on CMU 03_04 at 6.86 s) jumped 8 cm sideways for a frame.
-    bool worse = !(new_lift < lift);
-    for (size_t f = 0; f < feet && f < kMaxFeet; ++f) {
-      worse = worse || new_slip[f] > slip[f] + kLiftTolerance || new_depth[f] > std::max(depth[f], kFloorTolerance);
+    bool worse = !(lowered_misses.lift < misses.lift);
+    for (size_t f = 0; f < soles.size(); ++f) {
+      worse = worse || lowered_misses.slip[f] > misses.slip[f] + kLiftTolerance ||
+              lowered_misses.depth[f] > std::max(misses.depth[f], kFloorTolerance);
     }
     if (worse) {
       frame_q = kept;
       iterations += solver.solve(targets, active, frame_q, 0.0, &before, step_time, &unbounded).iterations;
       break;
     }
-    out.max_lowering_onto_plant = std::max(out.max_lowering_onto_plant, lift);
+    out.max_lowering_onto_plant = std::max(out.max_lowering_onto_plant, misses.lift);
     lowered = true;
-    lift = new_lift;
-    std::copy(new_slip, new_slip + kMaxFeet, slip);
-    std::copy(new_depth, new_depth + kMaxFeet, depth);
+    std::swap(misses, lowered_misses);
   }
   out.lowered_onto_plant_frames += lowered ? 1 : 0;
   return iterations;
@@ -1018,7 +1022,8 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   Vector6d speed_move = Vector6d::Zero();  // HoldPlantsWithinSpeed's pelvis move, carried from frame to frame
   HoldScratch hold_scratch;
   Eigen::VectorXd before_speed_move(nq);  // the frame before that move, to re-apply a changed one
-  Eigen::VectorXd lift_scratch(nq);       // LowerOntoLiftedPlants' frame before a round
+  Eigen::VectorXd lift_scratch(nq);       // LowerOntoLiftedPlants' frame before a round, and its feet's misses
+  FootMisses misses{std::vector<double>(foot_count), std::vector<double>(foot_count)}, lowered_misses = misses;
   // Per foot and frame, the contact phase that begins there (-1: none).
   std::vector<std::vector<int>> phase_begins(foot_count, std::vector<int>(static_cast<size_t>(frames), -1));
   for (size_t p = 0; p < contacts.phases.size(); ++p) {
@@ -1079,7 +1084,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
     }
     if (vertical_coordinate >= 0) {
       solved.iterations += LowerOntoLiftedPlants(solver, soles, contacts, t, frame_targets, active, before, step_time, planted,
-                                                 vertical_coordinate, frame_q, lift_scratch, out);
+                                                 vertical_coordinate, frame_q, lift_scratch, misses, lowered_misses, out);
     }
     for (int round = 0; round < 5; ++round) {
       bool rolled = false;

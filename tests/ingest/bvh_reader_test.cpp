@@ -119,9 +119,13 @@ TEST(BvhReader, DropFirstFrame) {
 
 // cgspeed's 07_12 has a second reference frame, every channel zero, after the first: dropped as well;
 // a zero frame later in the take (or when the first frame is kept) is motion.
+// kTwoBones with its reference frame followed by three frames, `rows` (one line each), instead of its one.
+std::string ThreeFramesAfterTheReference(const std::string& rows) {
+  return With(With(kTwoBones, "Frames: 2", "Frames: 4"), "0 0 0 90 0 0 0 90 0\n", rows);
+}
+
 TEST(BvhReader, DropFirstFrameAlsoDropsAllZeroReferenceFramesAfterIt) {
-  const std::string three = With(With(kTwoBones, "Frames: 2", "Frames: 4"), "0 0 0 90 0 0 0 90 0\n",
-                                 "0 0 0 0 0 0 0 0 0\n0 0 0 90 0 0 0 90 0\n0 0 0 0 0 0 0 0 0\n");
+  const std::string three = ThreeFramesAfterTheReference("0 0 0 0 0 0 0 0 0\n0 0 0 90 0 0 0 90 0\n0 0 0 0 0 0 0 0 0\n");
   BvhOptions options;
   options.drop_first_frame = true;
   const MarkerData dropped = ParseBvh(three, "three.bvh", options);
@@ -135,8 +139,7 @@ TEST(BvhReader, DropFirstFrameAlsoDropsAllZeroReferenceFramesAfterIt) {
 // right ankle): that frame goes too. A joint that stays at zero through the take does not count.
 TEST(BvhReader, DropFirstFrameAlsoDropsAFrameThatLeavesAJointAtRest) {
   // Frames: reference (all zero), the arm still at rest while the root has turned, then the take.
-  const std::string partial = With(With(kTwoBones, "Frames: 2", "Frames: 4"), "0 0 0 90 0 0 0 90 0\n",
-                                   "0 0 0 30 0 0 0 0 0\n0 0 0 31 0 0 40 0 0\n0 0 0 32 0 0 41 0 0\n");
+  const std::string partial = ThreeFramesAfterTheReference("0 0 0 30 0 0 0 0 0\n0 0 0 31 0 0 40 0 0\n0 0 0 32 0 0 41 0 0\n");
   BvhOptions options;
   options.drop_first_frame = true;
   const MarkerData dropped = ParseBvh(partial, "partial.bvh", options);
@@ -147,8 +150,7 @@ TEST(BvhReader, DropFirstFrameAlsoDropsAFrameThatLeavesAJointAtRest) {
   const Eigen::Vector3d arm = Position(dropped, 0, 2) - Position(dropped, 0, 1);
   EXPECT_NEAR(std::atan2(arm.y(), arm.x()) * 180 / M_PI, 71.0, 1e-9);
   // An arm at zero throughout is kept from frame 1.
-  const std::string still = With(With(kTwoBones, "Frames: 2", "Frames: 4"), "0 0 0 90 0 0 0 90 0\n",
-                                 "0 0 0 30 0 0 0 0 0\n0 0 0 31 0 0 0 0 0\n0 0 0 32 0 0 0 0 0\n");
+  const std::string still = ThreeFramesAfterTheReference("0 0 0 30 0 0 0 0 0\n0 0 0 31 0 0 0 0 0\n0 0 0 32 0 0 0 0 0\n");
   EXPECT_EQ(ParseBvh(still, "still.bvh", options).frame_count(), 3);
 }
 
@@ -163,15 +165,9 @@ TEST(BvhReader, RealCmuFramesLeavingAJointAtRestAreDropped) {
     // The take now starts moving as it goes on: no body turns more between its first two frames than
     // twice its largest turn between the next two (05_01's right foot turned 22° against 5° before).
     double first_step = 0.0, next_step = 0.0;
-    for (size_t b = 0; b < data.bodies.size(); ++b) {
-      const auto turn = [&](int64_t from, int64_t to) {
-        const double* p = &data.body_pose[(static_cast<size_t>(from) * data.bodies.size() + b) * 7 + 3];
-        const double* q = &data.body_pose[(static_cast<size_t>(to) * data.bodies.size() + b) * 7 + 3];
-        const double dot = std::abs(p[0] * q[0] + p[1] * q[1] + p[2] * q[2] + p[3] * q[3]);
-        return 2 * std::acos(std::min(1.0, dot));
-      };
-      first_step = std::max(first_step, turn(0, 1));
-      next_step = std::max(next_step, turn(1, 2));
+    for (int b = 0; b < static_cast<int>(data.bodies.size()); ++b) {
+      first_step = std::max(first_step, Orientation(data, 0, b).angularDistance(Orientation(data, 1, b)));
+      next_step = std::max(next_step, Orientation(data, 1, b).angularDistance(Orientation(data, 2, b)));
     }
     EXPECT_LT(first_step, 2 * next_step) << file << ": " << first_step * 180 / M_PI << " deg then " << next_step * 180 / M_PI;
   }

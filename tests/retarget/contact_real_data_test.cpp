@@ -251,6 +251,11 @@ struct SweepResult {
   std::vector<std::string> uneven_floor_walks;
 };
 
+// Contact phases whose planted sole rose more than 5 mm off the floor (ContactCheck::lift).
+int64_t LiftedPhases(const std::vector<double>& lift) {
+  return std::count_if(lift.begin(), lift.end(), [](double l) { return l > 0.005; });
+}
+
 SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
   const ScratchDir scratch("contacts");
   const testing::IndependentFk fk(robot.urdf);
@@ -309,7 +314,7 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
   }
   std::fprintf(stderr, "all %zu contact phases: stance drift median %.1f mm, p95 %.1f mm; planted sole lifted more than 5 mm "
                "in %lld\n", all_drift.size(), 1000 * Quantile(all_drift, 0.5), 1000 * Quantile(all_drift, 0.95),
-               static_cast<long long>(std::count_if(all_lift.begin(), all_lift.end(), [](double l) { return l > 0.005; })));
+               static_cast<long long>(LiftedPhases(all_lift)));
   std::fprintf(stderr, "%s: frames with a sole point > 1 cm below the floor: %.1f %% of %.0f\n", robot.name.c_str(),
                100 * all_penetrating / all_frames, all_frames);
   std::fprintf(stderr, "%s: %d of %d trials with at most 1 %% of frames more than 1 cm below the floor, %d with skating "
@@ -599,7 +604,7 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoG1) {
   // The stance sole stays on the floor (issue 17: flat on z = 0), which drift, floor and skating do not
   // see. Phases whose planted sole rose more than 5 mm, of 560: 36 until the base came down onto a planted
   // foot left in the air (2026-11-27), 19 since (94_15 48 mm: a kick the floor rounds lift the base for).
-  EXPECT_LE(std::count_if(result.lift.begin(), result.lift.end(), [](double l) { return l > 0.005; }), 23);
+  EXPECT_LE(LiftedPhases(result.lift), 23);
 }
 
 TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
@@ -638,8 +643,9 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
   EXPECT_LE(Quantile(result.drift, 0.5), 0.005);
   EXPECT_LE(Quantile(result.drift, 0.95), 0.020);
   // Phases whose planted sole rose more than 5 mm, of 560 (see the G1 sweep): 51 -> 45, most of those left
-  // a slow leg still bringing its foot down in the phase's first frames.
-  EXPECT_LE(std::count_if(result.lift.begin(), result.lift.end(), [](double l) { return l > 0.005; }), 48);
+  // a slow leg still bringing its foot down in the phase's first frames; 40 since the BVH reader drops a
+  // frame that leaves a joint at rest (05_01, 08_04 and 03_01 start one frame later).
+  EXPECT_LE(LiftedPhases(result.lift), 48);
 }
 
 }  // namespace
