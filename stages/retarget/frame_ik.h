@@ -54,6 +54,7 @@ struct FrameIkOptions {
   // accuracy where the targets barely see a joint (a knee near straight: the same-robot round trip's knees
   // lagged 28° at full weight). Where the previous frame's task cost (FrameIk::taskCost) is below
   // reachable_task_cost the targets are consistent, and all three shrink with √(cost / reachable_task_cost),
+  // per joint with the cost of the tasks it moves (FrameIk::regularisationScales),
   // down to min_regularisation_scale of themselves: the regularisation vanishes with the error, the idea of
   // Sugihara's Levenberg–Marquardt IK (IEEE T-RO 27(5), 2011). 1e-4 is a 14 mm residual on one weight-1
   // task. Measured task costs: CMU walks and dances onto the G1 5th percentile 3.5e-4 (02_01) to 1.3e-2
@@ -110,10 +111,17 @@ class FrameIk {
 
   // ½ Σ ‖weighted task residual‖² at q: the cost without the joint terms.
   double taskCost(const std::vector<IkTarget>& targets, const Eigen::VectorXd& q);
+  // The same per task (costs: [tasks]).
+  void taskCosts(const std::vector<IkTarget>& targets, const Eigen::VectorXd& q, Eigen::VectorXd& costs);
 
-  // The factor on the smoothing weights at a frame whose task cost is task_cost
-  // (FrameIkOptions::reachable_task_cost); the trajectory refinement scales its accelerations by it too.
+  // The factor on the smoothing weights for a task cost (FrameIkOptions::reachable_task_cost).
   [[nodiscard]] double regularisationScale(double task_cost) const;
+  // Per velocity (scales: [nu]), the factor on its smoothing weights at q: regularisationScale of the
+  // summed costs of the tasks whose links it moves, but at least the whole frame's to the 4th power (1
+  // wherever the targets as a whole are out of reach). Where they are within reach, a joint is smoothed as
+  // much as its own tasks are off: an arm whose hand is met exactly is not held back because a foot is
+  // not. The IK scales each frame by the previous frame's answer; the trajectory refinement its accelerations.
+  void regularisationScales(const std::vector<IkTarget>& targets, const Eigen::VectorXd& q, Eigen::VectorXd& scales);
 
   // Position error (m) and angle error (rad) of each task at q (NaN where the
   // target is inactive or has no such part).

@@ -27,19 +27,20 @@ void AddTracking(BlockBandedSystem& system, int k, const Eigen::VectorXd& residu
 }
 
 // Adds ‖c₋ x_{k-1} + c₀ x_k + c₊ x_{k+1} + b‖² with b = c₊ d₊ − c₋ d₋: the second difference of q in
-// the tangent space, d± the IK solution's own steps, weighted s (0.01 s)² · 2/(h₋ + h₊). Its Jacobian
-// blocks are multiples of the identity, so it only touches diagonals.
+// the tangent space, d± the IK solution's own steps, weighted w_u (0.01 s)² · 2/(h₋ + h₊) per velocity u.
+// Its Jacobian blocks are diagonal, so it only touches diagonals.
 void AddAcceleration(BlockBandedSystem& system, int k, const Eigen::VectorXd& step_before,
-                     const Eigen::VectorXd& step_after, double h_before, double h_after, double weight) {
-  const double scale = weight * kReferenceStep * kReferenceStep * 2.0 / (h_before + h_after);
+                     const Eigen::VectorXd& step_after, double h_before, double h_after, const Eigen::VectorXd& weight) {
+  const double scale = kReferenceStep * kReferenceStep * 2.0 / (h_before + h_after);
   const double c[3] = {scale / h_before, -scale / h_after - scale / h_before, scale / h_after};
+  const auto w2 = weight.array().square();
   for (int a = 0; a < 3; ++a) {
-    system.diagonal(k - 1 + a).diagonal().array() += c[a] * c[a];
-    system.rhs(k - 1 + a).noalias() -= c[a] * (c[2] * step_after - c[0] * step_before);
+    system.diagonal(k - 1 + a).diagonal().array() += c[a] * c[a] * w2;
+    system.rhs(k - 1 + a).array() -= c[a] * w2 * (c[2] * step_after.array() - c[0] * step_before.array());
   }
-  system.lower(k, 1).diagonal().array() += c[1] * c[0];
-  system.lower(k + 1, 1).diagonal().array() += c[2] * c[1];
-  system.lower(k + 1, 2).diagonal().array() += c[2] * c[0];
+  system.lower(k, 1).diagonal().array() += c[1] * c[0] * w2;
+  system.lower(k + 1, 1).diagonal().array() += c[2] * c[1] * w2;
+  system.lower(k + 1, 2).diagonal().array() += c[2] * c[0] * w2;
 }
 
 // q1 ⊖ q0 in the velocity space (a free base's rotation as log(R1 R0ᵀ), ground frame).
@@ -71,12 +72,12 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
   for (int64_t t = 1; t < frames; ++t) {
     TangentStep(model, &q[static_cast<size_t>((t - 1) * nq)], &q[static_cast<size_t>(t * nq)], step[static_cast<size_t>(t)]);
   }
-  // Per frame, the IK's factor on its smoothing weights (FrameIk::regularisationScale): targets the IK
-  // met exactly are tracked as exactly here. 1 where a frame has no targets.
-  std::vector<double> smoothing_scale(static_cast<size_t>(frames), 1.0);
+  // Per frame and velocity, the IK's factor on its smoothing weights (FrameIk::regularisationScales):
+  // targets the IK met exactly are tracked as exactly here. 1 where a frame has no targets.
+  std::vector<Eigen::VectorXd> smoothing_scale(static_cast<size_t>(frames), Eigen::VectorXd::Ones(nu));
   BlockBandedSystem system;
   std::vector<Eigen::VectorXd> solution;
-  Eigen::VectorXd residual, frame_q(nq);
+  Eigen::VectorXd residual, frame_q(nq), smoothing_weight(nu);
   RowMatrix jacobian;
   const int64_t advance = std::max(3, options.window - options.overlap);
   for (int64_t start = 0; start < frames - 2; start += advance) {
@@ -106,13 +107,13 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
       if (!targets[t].empty()) {
         ik.linearize(targets[t], frame_q, residual, jacobian);
         AddTracking(system, k, residual, jacobian);
-        smoothing_scale[t] = ik.regularisationScale(ik.taskCost(targets[t], frame_q));
+        ik.regularisationScales(targets[t], frame_q, smoothing_scale[t]);
       }
     }
     for (int k = 1; k + 1 < blocks; ++k) {
       const size_t t = static_cast<size_t>(start + k);
-      AddAcceleration(system, k, step[t], step[t + 1], times[t] - times[t - 1], times[t + 1] - times[t],
-                      options.smoothing * smoothing_scale[t]);
+      smoothing_weight = options.smoothing * smoothing_scale[t];
+      AddAcceleration(system, k, step[t], step[t + 1], times[t] - times[t - 1], times[t + 1] - times[t], smoothing_weight);
     }
     if (!system.solve(solution)) {
       throw std::runtime_error("trajectory refinement: the smoothing problem of frames " + std::to_string(start) +

@@ -92,5 +92,39 @@ TEST_F(FrameIkReachableTest, SmoothingShrinksWithTheTaskCostOnlyBelowTheReachabl
   EXPECT_NEAR(ik.taskCost(targets, q), 3 * 0.5 * 1e-4, 1e-12);
 }
 
+// Per joint, the smoothing follows the error of the tasks that joint moves: a left foot off its target (the
+// left knee turned) leaves the right leg and the arms, whose tasks are met, at the whole frame's scale to the
+// 4th power, its own leg at the scale of its cost; once the frame as a whole is out of reach, all at 1.
+TEST_F(FrameIkReachableTest, EachJointIsSmoothedByTheErrorOfItsOwnTasks) {
+  FrameIkOptions options;
+  FrameIk ik(model_, tasks_, model_.defaultQ(), 0.001, options);
+  Eigen::VectorXd q = Truth(0);
+  const std::vector<IkTarget> targets = TargetsAt(q);
+  const int left_knee = Coordinate("left_knee_joint");
+  const auto velocity = [&](const std::string& name) { return Coordinate(name) - 1; };  // a free base: u = q - 1
+  Eigen::VectorXd scales;
+  // Turn the left knee until the frame costs a quarter of reachable_task_cost (the cost grows with the turn).
+  double low = 0.0, high = 0.2;
+  for (int i = 0; i < 60; ++i) {
+    q[left_knee] = Truth(0)[left_knee] + 0.5 * (low + high);
+    (ik.taskCost(targets, q) < 0.25 * options.reachable_task_cost ? low : high) = 0.5 * (low + high);
+  }
+  const double cost = ik.taskCost(targets, q);
+  ASSERT_NEAR(cost, 0.25 * options.reachable_task_cost, 1e-9);
+  ik.regularisationScales(targets, q, scales);
+  ASSERT_EQ(scales.size(), model_.nu());
+  for (const char* joint : {"left_hip_pitch_joint", "left_knee_joint", "left_ankle_roll_joint"}) {
+    EXPECT_NEAR(scales[velocity(joint)], 0.5, 1e-6) << joint;  // √(cost / reachable) of the left foot's cost
+  }
+  for (const char* joint : {"right_hip_pitch_joint", "right_knee_joint", "waist_yaw_joint", "left_elbow_joint"}) {
+    EXPECT_NEAR(scales[velocity(joint)], std::pow(0.5, 4), 1e-6) << joint;  // tasks met: the whole frame's, to the 4th
+  }
+  // Out of reach as a whole (a scaled person): every joint at full smoothing, as with one scale per frame.
+  q[left_knee] = Truth(0)[left_knee] + 0.5;
+  ASSERT_GT(ik.taskCost(targets, q), options.reachable_task_cost);
+  ik.regularisationScales(targets, q, scales);
+  EXPECT_DOUBLE_EQ(scales.minCoeff(), 1.0);
+}
+
 }  // namespace
 }  // namespace syn

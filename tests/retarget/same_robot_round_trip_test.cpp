@@ -281,16 +281,19 @@ TEST(RetargetSameRobotRoundTrip, EveryG1MotionComesBackToItsJointAngles) {
       RecordProperty(key + "_p95_deg", std::to_string(errors.p95));
       RecordProperty(key + "_max_deg", std::to_string(errors.max));
       RecordProperty(key + "_worst", errors.worst_joint + " frame " + std::to_string(errors.worst_frame));
-      // Issue 17's bound (p95 <= 0.5 deg, max <= 2 deg), measured 2026-11-26:
-      //  - without enforcement: walk 0.008/0.38 and dance 0.016/1.11 meet it; the jumping jack does not
-      //    (0.90/16.8). Its raised arms pass through the shoulder's gimbal lock (shoulder roll near 115°, the
-      //    pitch and yaw axes nearly in line) with the elbow passing through straight: at CSV frame 21 pitch and
-      //    yaw are both 14.6° off while the upper arm, forearm and hand are within 0.05° and 0.1 mm of the
-      //    source's, so no retargeter that sees only link poses can tell those joint angles apart.
-      //    The IK's smoothing weights shrink where the targets are met (FrameIkOptions::reachable_task_cost);
-      //    at full weight (before) the knees near straight lagged their targets: p95 2.0-10.6, max 28-37 deg.
-      //  - with it (the default; median 0.006-0.11, p95 6.9-10.5, max 23-37 deg; 2026-11-27 p95 6.7-10.9, max
-      //    24-43 deg): the Kimodo motions' own
+      // Issue 17's bound (p95 <= 0.5 deg, max <= 2 deg):
+      //  - without enforcement (2026-11-27, session 28): walk 0.008/0.38, dance 0.015/0.78, jumping jack
+      //    0.33/4.1 deg; all three meet the p95, the jumping jack not the max. Its source puts both ankles' roll
+      //    up to 1° past the URDF's limit (CSV frames 16-26 and 77-81), so no G1 pose meets those frames' feet;
+      //    the IK spreads the few-mm foot error up the body, and the raised arms, near the shoulder's gimbal
+      //    (roll about 115°, the pitch and yaw axes nearly in line, the elbow passing through straight), turn
+      //    a sub-millimetre change at the shoulder into degrees of pitch against yaw: CSV frame 77's left
+      //    shoulder 4.1° off with its hand 0.5 mm and forearm 0.4° off. Before the smoothing weights were scaled
+      //    per joint by the errors of that joint's own tasks (FrameIk::regularisationScales), the feet's error
+      //    kept the whole body's acceleration term up and it held that arm 17° off for 10 frames: 0.90/16.8.
+      //    (Smoothing weights at full strength whatever the error, before 2026-11-26: knees near straight
+      //    lagged their targets, p95 2.0-10.6, max 28-37 deg.)
+      //  - with it (the default; median 0.001-0.04, p95 6.7-10.3, max 24-43 deg): the Kimodo motions' own
       //    planted soles slide 13-39 mm a phase, tilt 3-5° (median) and up to 34°, and dip up to 38 mm into the
       //    floor, so exact contacts must bend their legs. A motion that keeps its contacts: next test.
       // The verdict is printed; what is asserted is a little above today's level, so nothing gets worse
@@ -299,11 +302,11 @@ TEST(RetargetSameRobotRoundTrip, EveryG1MotionComesBackToItsJointAngles) {
       const bool met = errors.p95 <= 0.5 && errors.max <= 2.0;
       std::cout << "    issue 17 round-trip bound (p95 <= 0.5, max <= 2 deg): " << (met ? "met" : "NOT met") << "\n";
       EXPECT_LE(errors.median, enforce ? 0.5 : 0.05) << stem << ": joint error median (deg)";
-      EXPECT_LE(errors.p95, enforce ? 14.0 : 1.5) << stem << ": joint error p95 (deg); figures printed above";
+      EXPECT_LE(errors.p95, enforce ? 14.0 : 0.5) << stem << ": joint error p95 (deg); figures printed above";
       // 2026-11-27 (session 23): a contact phase the recording's last frame cuts is now kept (the dance's left
       // foot, frames 148-150); the swing before it changed, and the dance's knee snap (frame 107, below) holds
       // the knee straight one frame longer: max 42.7 -> 55.9° with enforcement.
-      EXPECT_LE(errors.max, enforce ? 60.0 : 25.0) << stem << ": joint error max (deg), " << errors.worst_joint
+      EXPECT_LE(errors.max, enforce ? 60.0 : 6.0) << stem << ": joint error max (deg), " << errors.worst_joint
                                                    << " at CSV frame " << errors.worst_frame;
       if (!enforce) {
         EXPECT_LE(summary.median_position_error[0], 1e-4) << stem << ": priority-1 landmark error median (m)";
