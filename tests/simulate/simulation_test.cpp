@@ -435,7 +435,7 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
   // retargeted body moving 0.84 m/s sideways, and it fell in all 8 balance settings; now it stays up in all
   // 8. Over the 8 settings 12-15, mean 13.75 (12.88 without).
   // 2026-11-27 (session 28): 13 up after the IK's per-joint smoothing (P1 errors within 0.2 mm of before):
-  // 03_02, 06_01 and 12_03 fall, 03_01 stays up. Over gain 3-4.5 1/s x cap 0.28-0.3 m, mean 14.12 -> 13.75.
+  // 03_02, 06_01 and 12_03 fall, 03_01 stays up. Over gain 3-4.5 1/s x cap 0.28-0.3 m, mean 13.75 -> 14.12.
   EXPECT_GE(up, 13);
 }
 
