@@ -99,6 +99,9 @@ class RobotMapParser {
       } else if (name == "max_roll") {
         map.max_roll = fields_.number(value, name);
         if (!(map.max_roll >= 0 && map.max_roll <= M_PI / 2)) fields_.fail(value, "max_roll must be in [0, pi/2] rad");
+      } else if (name == "base_smoothing") {
+        map.base_smoothing = fields_.number(value, name);
+        if (!(map.base_smoothing >= 0 && map.base_smoothing <= 1)) fields_.fail(value, "base_smoothing must be in [0, 1] s");
       } else if (name == "velocity_limit_scale") {
         map.velocity_limit_scale = fields_.number(value, name);
         if (!(map.velocity_limit_scale >= 0)) fields_.fail(value, "velocity_limit_scale must be >= 0 (0: unbounded)");
@@ -152,7 +155,7 @@ class RobotMapParser {
         }
       } else {
         fields_.fail(value, "unknown key '" + name +
-                                "' (expected robot, floating_base, proportions, max_roll, velocity_limit_scale, priority_weights, [[task]], [posture], "
+                                "' (expected robot, floating_base, proportions, max_roll, base_smoothing, velocity_limit_scale, priority_weights, [[task]], [posture], "
                                 "[reference_stance], [calibration_stance], [joint_ranges], [feet])");
       }
     }

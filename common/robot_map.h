@@ -50,6 +50,10 @@ struct RobotMap {
   // rad: how far a planted foot may pitch with the source about its heel or toe edge (heel strike, toe-off)
   // instead of lying flat, unless told (--max-roll); 0: flat (stages/retarget/contact_enforcement.h).
   double max_roll = 0.0;
+  // s: the half-width of the smoothing of the pelvis moves contact enforcement makes for plants, unless told
+  // (--base-smoothing): shorter for a robot whose legs are slow to follow a pelvis that moves for them late
+  // (stages/retarget/contact_enforcement.h).
+  double base_smoothing = 0.1;
   // The fraction of the URDF velocity limits each frame's joint step is bounded by unless told
   // (--velocity-limit-scale; 0: unbounded): above 1 where a person's pace needs more than the URDF allows and
   // the contacts are to rank above the motors' speed (stages/retarget/retarget.h).

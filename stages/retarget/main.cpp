@@ -201,9 +201,11 @@ int main(int argc, char** argv) {
                  "turn and shift the pelvis by the least amount that lets the planted legs reach (the upper body moves "
                  "with it; a free base only). false: the foot falls short and slides")
       ->capture_default_str();
-  app.add_option("--base-smoothing", options.enforcement.base_smoothing,
-                 "Half-width (s) of the smoothing of the pelvis moves --move-base-for-plants makes")
-      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--base-smoothing", MapOrNumber("--base-smoothing", "a time in s", options.base_smoothing),
+         "Half-width (s) of the smoothing of the pelvis moves --move-base-for-plants makes. map: the robot map's "
+         "base_smoothing (0.1 unless it says)")
+      ->default_str("map");
   app.add_option_function<std::string>(
          "--max-roll", MapOrNumber("--max-roll", "an angle in rad", options.max_roll),
          "Planted feet pitch with the source about their heel or toe edge (heel strike, toe-off) by at most this "

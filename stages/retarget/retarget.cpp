@@ -652,6 +652,7 @@ bool RetargetOptions::HasValidValues(std::string* error) const {
   if (!(posture_scale > 0)) return fail("--posture-scale must be > 0");
   if (!(ik_function_tolerance > 0 && ik_function_tolerance < 1)) return fail("--ik-function-tolerance must be in (0, 1)");
   if (max_roll && !(*max_roll >= 0 && *max_roll <= M_PI / 2)) return fail("--max-roll must be in [0, pi/2] rad");
+  if (base_smoothing && !(*base_smoothing >= 0)) return fail("--base-smoothing must be >= 0 s");
   return contact.IsValid(error) && floor.IsValid(error) && enforcement.IsValid(error) && contact_forces.IsValid(error);
 }
 
@@ -668,7 +669,7 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"stance_knee", enforcement.stance_knee},
           {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing},
           {"max_roll", max_roll ? nlohmann::json(*max_roll) : nlohmann::json("map")}, {"contacts_above_speed", enforcement.contacts_above_speed},
-          {"move_base_for_plants", enforcement.move_base_for_plants}, {"base_smoothing", enforcement.base_smoothing},
+          {"move_base_for_plants", enforcement.move_base_for_plants}, {"base_smoothing", base_smoothing ? nlohmann::json(*base_smoothing) : nlohmann::json("map")},
           {"heading_from_pelvis", heading_from_pelvis}, {"proportions", !proportions_per_chain ? "map" : *proportions_per_chain ? "chains" : "height"},
           {"friction", contact_forces.friction}, {"neutral_reference", neutral_reference},
           {"level_floor", floor.enabled}, {"level_floor_max_tilt_deg", floor.max_tilt * 180 / M_PI},
@@ -858,6 +859,7 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
     ContactEnforcementOptions enforcement = options.enforcement;
     enforcement.velocity_limit_scale = velocity_limit_scale;
     enforcement.max_roll = options.max_roll.value_or(map.max_roll);
+    enforcement.base_smoothing = options.base_smoothing.value_or(map.base_smoothing);
     EnforceContacts(model, workspace, map.feet, contacts, SourceFootPoses(motion, foot_tasks),
                     vertical, motion.time_s, map.file, enforcement, motion.q, &report.enforcement);
     report.refinement_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - enforce_start).count();

@@ -51,6 +51,8 @@ struct RetargetOptions {
   std::optional<bool> proportions_per_chain;
   // rad: contact enforcement's max_roll; unset: the robot map's max_roll.
   std::optional<double> max_roll;
+  // s: contact enforcement's base_smoothing; unset: the robot map's base_smoothing.
+  std::optional<double> base_smoothing;
   // Frames with no target at all are bridged when the gap is at most this long (s).
   double max_bridge = 0.25;
   // Each frame's joint step is bounded by this fraction of the URDF velocity limit times the time since

@@ -636,16 +636,19 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
   // then drifts 76 mm: planted on the floor, 17 cm under the source's foot, its leg cannot hold it (base
   // lowered up to 126 mm), after a 1 m step of the left foot that straightens the right knee; median
   // 7.6 mm. Drift 31 -> 30 (05_11 and 03_02), skating 31 (03_02: 0.356 against the source's 0.279).
+  // 2026-11-27 (session 28): the pelvis moves for plants smoothed over ±0.05 s, not ±0.1 (hrp4c.toml's
+  // base_smoothing): 05_11's spin-kick plant 28.1 -> 14.2 mm p95, drift 30 -> 31; lifted phases 40 -> 32.
   EXPECT_EQ(result.floor_met, 32);
-  EXPECT_GE(result.drift_met, 30);
+  EXPECT_GE(result.drift_met, 31);
   ExpectWalksOnTheFloor(result);
   EXPECT_GE(result.skating_met, 30);
   EXPECT_LE(Quantile(result.drift, 0.5), 0.005);
   EXPECT_LE(Quantile(result.drift, 0.95), 0.020);
   // Phases whose planted sole rose more than 5 mm, of 560 (see the G1 sweep): 51 -> 45, most of those left
   // a slow leg still bringing its foot down in the phase's first frames; 40 since the BVH reader drops a
-  // frame that leaves a joint at rest (05_01, 08_04 and 03_01 start one frame later).
-  EXPECT_LE(LiftedPhases(result.lift), 48);
+  // frame that leaves a joint at rest (05_01, 08_04 and 03_01 start one frame later); 32 with the map's
+  // sharper pelvis moves for plants.
+  EXPECT_LE(LiftedPhases(result.lift), 36);
 }
 
 }  // namespace

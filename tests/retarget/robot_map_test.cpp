@@ -128,6 +128,19 @@ TEST(RobotMap, MaxRollIsAnAngleOnlyTheMapsThatWantItGive) {
   EXPECT_GT(LoadRobotMap(testing::SourcePath("manifests/robots/hrp4c.toml")).max_roll, 0.0);
 }
 
+// base_smoothing: the half-width (s) of contact enforcement's pelvis moves for plants, in [0, 1]; 0.1 unless
+// the map says (HRP-4C's slow legs want them sharper).
+TEST(RobotMap, BaseSmoothingIsATimeWithTheStagesDefault) {
+  const std::string task = "[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n";
+  EXPECT_EQ(LineOfFirstError("base_smoothing = -0.01\n" + task), 1);
+  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nbase_smoothing = 2\n" + task), 2);
+  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nbase_smoothing = \"fast\"\n" + task), 2);
+  EXPECT_DOUBLE_EQ(ParseRobotMap(task, "t.toml").base_smoothing, 0.1);
+  EXPECT_DOUBLE_EQ(ParseRobotMap("base_smoothing = 0.05\n" + task, "t.toml").base_smoothing, 0.05);
+  EXPECT_DOUBLE_EQ(LoadRobotMap(testing::SourcePath("manifests/robots/g1.toml")).base_smoothing, 0.1);
+  EXPECT_LT(LoadRobotMap(testing::SourcePath("manifests/robots/hrp4c.toml")).base_smoothing, 0.1);
+}
+
 }  // namespace
 }  // namespace syn
 
