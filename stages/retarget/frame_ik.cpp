@@ -92,9 +92,9 @@ class TrackingCost final : public ceres::CostFunction {
   // a seventh of the stage's time on CMU dances.
   void setHeld(const std::vector<uint8_t>* held) { held_ = held; }
 
-  // Per velocity, the factor on its posture, continuity and acceleration weights (FrameIk::regularisationScales).
-  void setRegularisationScales(const Eigen::VectorXd& scales) { regularisation_scales_ = scales; }
-  [[nodiscard]] const Eigen::VectorXd& regularisationScales() const { return regularisation_scales_; }
+  // Per velocity, the factor on its posture, continuity and acceleration weights (FrameIk::regularisationScales),
+  // set in place before each solve.
+  Eigen::VectorXd& regularisationScales() { return regularisation_scales_; }
 
   // predicted_step: the step δ a constant velocity would take this frame (the acceleration term pulls
   // toward it), or nullptr for none (the first frame).
@@ -223,12 +223,11 @@ struct FrameIk::Impl {
   Eigen::VectorXd predicted_step;  // this solve's constant-velocity prediction
   bool has_last_step = false;
   int retry_rest = 0;  // frames left before a straight knee's next bent retry (kRetryRest)
-  double last_task_cost = 0.0;     // the previous solve's taskCost, valid with has_last_step
   // Per-joint regularisation (FrameIk::regularisationScales): which tasks each velocity moves ([nu × tasks],
-  // 1 where the task's link is beyond the joint), the previous answer's cost per task, scratch for the
-  // costs, and this frame's scales.
+  // 1 where the task's link is beyond the joint); the previous solve's cost per task (its taskCosts, valid
+  // with has_last_step); scratch for the costs.
   Eigen::MatrixXd moves;
-  Eigen::VectorXd last_task_costs, task_costs, scales;
+  Eigen::VectorXd last_task_costs, task_costs;
   Eigen::VectorXd residual, gradient;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jacobian;
 
@@ -260,7 +259,6 @@ struct FrameIk::Impl {
       for (int u = 0; u < model.nu(); ++u) moves(u, static_cast<Eigen::Index>(i)) = link_jacobian.col(u).norm() > 0 ? 1.0 : 0.0;
     }
     last_task_costs = task_costs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(tasks.size()));
-    scales = Eigen::VectorXd::Ones(model.nu());
     held_mask.assign(static_cast<size_t>(model.nu()), 0);
     last_step = predicted_step = Eigen::VectorXd::Zero(model.nu());
     solver_options.max_num_iterations = options.max_iterations;
@@ -370,11 +368,10 @@ FrameIkSummary FrameIk::solveOnce(const std::vector<IkTarget>& targets, Eigen::V
   impl.cost->setFrame(&targets, q, predict ? &impl.predicted_step : nullptr);
   // From the previous frame's answer: 1 on a take's first frame and after a gap.
   if (impl.has_last_step) {
-    impl.jointScales(impl.last_task_costs, impl.scales);
+    impl.jointScales(impl.last_task_costs, impl.cost->regularisationScales());
   } else {
-    impl.scales.setOnes();
+    impl.cost->regularisationScales().setOnes();
   }
-  impl.cost->setRegularisationScales(impl.scales);
   // Joint limits (and the per-frame velocity bound) are a box on δ. Ceres's own bounds project each
   // Levenberg–Marquardt step onto the box and add a line search per step; when a joint presses on its
   // limit that crawls (tens of iterations for a fraction of the cost), because the step is computed as
@@ -435,7 +432,6 @@ FrameIkSummary FrameIk::solveOnce(const std::vector<IkTarget>& targets, Eigen::V
 FrameIkSummary FrameIk::solve(const std::vector<IkTarget>& targets, Eigen::VectorXd& q, double step_time) {
   FrameIkSummary summary = solveOnBranch(targets, q, step_time);
   taskCosts(targets, q, impl_->last_task_costs);
-  impl_->last_task_cost = impl_->last_task_costs.sum();
   return summary;
 }
 
@@ -451,7 +447,7 @@ FrameIkSummary FrameIk::solveOnBranch(const std::vector<IkTarget>& targets, Eige
     on_floor = on_floor || (impl.branch[static_cast<size_t>(u + impl.q_offset)] && q[u + impl.q_offset] <= impl.lower[u] + 1e-6);
   }
   if (!on_floor) return first;
-  if (had_last_step && impl.retry_rest > 0 && impl.last_task_cost > kRetryRestCost * impl.options.reachable_task_cost) {
+  if (had_last_step && impl.retry_rest > 0 && impl.last_task_costs.sum() > kRetryRestCost * impl.options.reachable_task_cost) {
     --impl.retry_rest;
     return first;
   }

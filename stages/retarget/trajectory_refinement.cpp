@@ -27,13 +27,13 @@ void AddTracking(BlockBandedSystem& system, int k, const Eigen::VectorXd& residu
 }
 
 // Adds ‖c₋ x_{k-1} + c₀ x_k + c₊ x_{k+1} + b‖² with b = c₊ d₊ − c₋ d₋: the second difference of q in
-// the tangent space, d± the IK solution's own steps, weighted w_u (0.01 s)² · 2/(h₋ + h₊) per velocity u.
-// Its Jacobian blocks are diagonal, so it only touches diagonals.
-void AddAcceleration(BlockBandedSystem& system, int k, const Eigen::VectorXd& step_before,
-                     const Eigen::VectorXd& step_after, double h_before, double h_after, const Eigen::VectorXd& weight) {
+// the tangent space, d± the IK solution's own steps, weighted s σ_u (0.01 s)² · 2/(h₋ + h₊) per velocity u
+// (s: `smoothing`, σ: `scale`). Its Jacobian blocks are diagonal, so it only touches diagonals.
+void AddAcceleration(BlockBandedSystem& system, int k, const Eigen::VectorXd& step_before, const Eigen::VectorXd& step_after,
+                     double h_before, double h_after, double smoothing, const Eigen::VectorXd& scale_per_velocity) {
   const double scale = kReferenceStep * kReferenceStep * 2.0 / (h_before + h_after);
   const double c[3] = {scale / h_before, -scale / h_after - scale / h_before, scale / h_after};
-  const auto w2 = weight.array().square();
+  const auto w2 = (smoothing * scale_per_velocity.array()).square();
   for (int a = 0; a < 3; ++a) {
     system.diagonal(k - 1 + a).diagonal().array() += c[a] * c[a] * w2;
     system.rhs(k - 1 + a).array() -= c[a] * w2 * (c[2] * step_after.array() - c[0] * step_before.array());
@@ -77,7 +77,7 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
   std::vector<Eigen::VectorXd> smoothing_scale(static_cast<size_t>(frames), Eigen::VectorXd::Ones(nu));
   BlockBandedSystem system;
   std::vector<Eigen::VectorXd> solution;
-  Eigen::VectorXd residual, frame_q(nq), smoothing_weight(nu);
+  Eigen::VectorXd residual, frame_q(nq);
   RowMatrix jacobian;
   const int64_t advance = std::max(3, options.window - options.overlap);
   for (int64_t start = 0; start < frames - 2; start += advance) {
@@ -112,8 +112,8 @@ void RefineTrajectory(FrameIk& ik, const Model& model, const std::vector<std::ve
     }
     for (int k = 1; k + 1 < blocks; ++k) {
       const size_t t = static_cast<size_t>(start + k);
-      smoothing_weight = options.smoothing * smoothing_scale[t];
-      AddAcceleration(system, k, step[t], step[t + 1], times[t] - times[t - 1], times[t + 1] - times[t], smoothing_weight);
+      AddAcceleration(system, k, step[t], step[t + 1], times[t] - times[t - 1], times[t + 1] - times[t], options.smoothing,
+                      smoothing_scale[t]);
     }
     if (!system.solve(solution)) {
       throw std::runtime_error("trajectory refinement: the smoothing problem of frames " + std::to_string(start) +

@@ -61,6 +61,15 @@ def skating(time, feet):
     return float(flags.mean()) if len(time) else 0.0
 
 
+def over_phases(name, values):
+    """Median, p95 and max (mm) of per-phase values in m, 0 when there are none."""
+    if not values:
+        return {f"{name}_median_mm": 0.0, f"{name}_p95_mm": 0.0, f"{name}_max_mm": 0.0}
+    return {f"{name}_median_mm": float(np.median(values) * 1000),
+            f"{name}_p95_mm": float(np.percentile(values, 95, method="inverted_cdf") * 1000),
+            f"{name}_max_mm": float(max(values) * 1000)}
+
+
 def sole_points(rotations, positions, soles):
     return positions[:, None, :] + np.einsum("tij,pj->tpi", rotations, soles)
 
@@ -104,12 +113,8 @@ def check(robot, feet, path, plot_dir):
         "penetrating_frames": float(np.mean(lowest_all < -0.01)),
         "deepest_mm": float(max(0.0, -lowest_all.min()) * 1000),
         "phases": len(drifts),
-        "drift_median_mm": float(np.median(drifts) * 1000) if drifts else 0.0,
-        "drift_p95_mm": float(np.percentile(drifts, 95, method="inverted_cdf") * 1000) if drifts else 0.0,
-        "drift_max_mm": float(max(drifts) * 1000) if drifts else 0.0,
-        "lift_median_mm": float(np.median(lifts) * 1000) if lifts else 0.0,
-        "lift_p95_mm": float(np.percentile(lifts, 95, method="inverted_cdf") * 1000) if lifts else 0.0,
-        "lift_max_mm": float(max(lifts) * 1000) if lifts else 0.0,
+        **over_phases("drift", drifts),
+        **over_phases("lift", lifts),
         "skating": skating(time, robot_feet),
         "source_skating": skating(time, [(lowest - level, centre) for lowest, centre, _ in source_feet]),
         "lowest_knee_rad": float(q[:, knee_columns].min()) if knee_columns else None,
