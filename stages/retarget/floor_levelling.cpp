@@ -98,6 +98,7 @@ FloorPlane EstimateFloorPlane(const std::vector<std::vector<Eigen::Vector3d>>& f
                   100 * plane.kept_fraction, plane.tilt_rad * 180 / M_PI, plane.residual * 1000, options.max_tilt * 180 / M_PI,
                   options.max_residual * 1000, 100 * options.min_kept);
     plane.note = text;
+    plane.uneven = true;
     return plane;
   }
   plane.rotation = Eigen::Quaterniond::FromTwoVectors(plane.normal, Eigen::Vector3d::UnitZ());

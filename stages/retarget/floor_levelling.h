@@ -53,6 +53,7 @@ struct FloorLevellingOptions {
 
 struct FloorPlane {
   bool levelled = false;          // the take was turned
+  bool uneven = false;            // its stance samples fit no floor (terrain, steps): the note says why
   double tilt_rad = 0;            // the plane's angle to the horizontal (also when not levelled)
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // of the kept samples, on the plane

@@ -152,6 +152,10 @@ int main(int argc, char** argv) {
          "--level-floor-min-tilt", [&](double degrees) { options.floor.min_tilt = degrees * M_PI / 180; },
          "The smallest floor tilt (degrees) --level-floor corrects (a level floor's fit is that noisy)")
       ->default_str("0.286");
+  app.add_option("--flatten-terrain", options.flatten_terrain,
+                 "On a take whose standing feet fit no floor (uneven terrain, steps), lower each raised plant onto the "
+                 "robot's flat floor and the body with it, so the robot walks the terrain's steps on level ground")
+      ->capture_default_str();
   app.add_option("--enforce-contacts", options.enforce_contacts,
                  "Make the source's contacts exact, above every task: planted soles flat on z = 0 and still, no sole "
                  "point below the floor, the base lowered where a planted leg cannot reach (false: measured only)")

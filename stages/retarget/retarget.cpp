@@ -17,6 +17,7 @@
 #include "stages/retarget/frame_ik.h"
 #include "stages/retarget/landmarks.h"
 #include "stages/retarget/stance_alignment.h"
+#include "stages/retarget/terrain_flattening.h"
 #include "stages/retarget/trajectory_refinement.h"
 #include "stages/retarget/velocity_estimation.h"
 
@@ -407,20 +408,27 @@ void FindWorstJointStep(const Model& model, const MotionData& motion, RetargetSu
 // marker set has no foot landmark for is never in contact).
 // Per robot-map foot, its side's "<side>_foot" landmark position per frame (NaN where missing, and in every
 // frame when the marker set has no such landmark: `missing` then names it).
+// Per robot-map foot, the index of its side's "<side>_foot" landmark (-1: the marker set has none).
+std::vector<int64_t> FootLandmarks(const RobotMap& map, const LandmarkTrajectories& landmarks) {
+  std::vector<int64_t> indices;
+  for (const RobotFoot& foot : map.feet) {
+    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), foot.side + "_foot");
+    indices.push_back(found == landmarks.names.end() ? -1 : found - landmarks.names.begin());
+  }
+  return indices;
+}
+
 std::vector<std::vector<Eigen::Vector3d>> FootPositions(const RobotMap& map, const LandmarkTrajectories& landmarks,
                                                         std::vector<std::string>* missing) {
+  const std::vector<int64_t> indices = FootLandmarks(map, landmarks);
   std::vector<std::vector<Eigen::Vector3d>> positions(map.feet.size());
   for (size_t f = 0; f < map.feet.size(); ++f) {
-    const std::string name = map.feet[f].side + "_foot";
-    const auto found = std::find(landmarks.names.begin(), landmarks.names.end(), name);
     positions[f].assign(static_cast<size_t>(landmarks.frames), Eigen::Vector3d::Constant(std::nan("")));
-    if (found == landmarks.names.end()) {
-      if (missing != nullptr) missing->push_back(name);
+    if (indices[f] < 0) {
+      if (missing != nullptr) missing->push_back(map.feet[f].side + "_foot");
       continue;
     }
-    for (int64_t t = 0; t < landmarks.frames; ++t) {
-      positions[f][static_cast<size_t>(t)] = SampleAt(landmarks, t, found - landmarks.names.begin()).position;
-    }
+    for (int64_t t = 0; t < landmarks.frames; ++t) positions[f][static_cast<size_t>(t)] = SampleAt(landmarks, t, indices[f]).position;
   }
   return positions;
 }
@@ -664,7 +672,7 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance},
           {"contact_height", contact.height}, {"contact_speed", contact.speed}, {"contact_release", contact.release},
           {"contact_min_duration", contact.min_duration}, {"contact_uneven_ground", contact.uneven_ground},
-          {"enforce_contacts", enforce_contacts},
+          {"enforce_contacts", enforce_contacts}, {"flatten_terrain", flatten_terrain},
           {"contact_blend", enforcement.blend}, {"contact_blend_horizontal", enforcement.horizontal_blend},
           {"stance_knee", enforcement.stance_knee},
           {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing},
@@ -758,6 +766,14 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   report.floor_levelled = floor.levelled;
   if (floor.levelled) report.floor_rotation = floor.rotation;
   if (!floor.note.empty()) report.notes.push_back(floor.note);
+  // The source's contacts, from the levelled take (before any terrain is flattened: what the subject stood on).
+  const FootContacts contacts =
+      inputs.map.feet.empty() ? FootContacts{} : SourceContacts(inputs.map, landmarks, inputs.capture.time_s, options, report.notes);
+  if (floor.uneven && options.flatten_terrain && !inputs.map.feet.empty()) {
+    const std::string note = TerrainFlatteningNote(
+        FlattenTerrain(contacts, FootLandmarks(inputs.map, landmarks), options.contact.height, landmarks));
+    if (!note.empty()) report.notes.push_back(note);
+  }
   const TrackedTasks tasks = SelectTasks(inputs, landmarks, options, report.notes);
   // The landmarks at the reference stance: the capture's calibration frame, or a frame of the take.
   LandmarkTrajectories calibration = CalibrationLandmarks(inputs, tasks, options, report.notes);
@@ -846,8 +862,6 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   RefineTrajectory(ik, model, frame_targets, motion.time_s, motion.q, refinement);
   report.refinement_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - refine_start).count();
 
-  const FootContacts contacts =
-      map.feet.empty() ? FootContacts{} : SourceContacts(map, landmarks, inputs.capture.time_s, options, report.notes);
   if ((calibrated || options.enforce_contacts) && !map.feet.empty()) {
     GroundOnPlantedSoles(model, workspace, map, contacts, motion, frame_targets, report.notes);
   }

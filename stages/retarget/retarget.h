@@ -75,6 +75,9 @@ struct RetargetOptions {
   ContactDetectionOptions contact;
   // The take turned so its floor, fitted to the standing feet, is level (floor_levelling.h).
   FloorLevellingOptions floor;
+  // On a take whose stances fit no floor (uneven terrain), the raised plants and the body above them
+  // lowered onto the robot's flat floor (terrain_flattening.h).
+  bool flatten_terrain = true;
   // Contacts as constraints above every task (contact_enforcement.h): planted soles flat on the floor and
   // still, no sole point below it, the base lowered where a planted leg cannot reach. false: measured only.
   bool enforce_contacts = true;
