@@ -117,28 +117,15 @@ sanitize-test: setup
 
 # Every tests/fuzz/*_fuzzer runs FUZZ_SECONDS from its seeds (tests/fuzz/seeds/NAME) and fails the target on
 # any finding: a crash, an escaped exception, a leak, UB (the fuzz build has -fno-sanitize-recover=all), an
-# input slower than FUZZ_TIMEOUT seconds, or no fuzzer built at all. Each log is kept whole in
+# input slower than FUZZ_TIMEOUT seconds, or no fuzzer built at all; JOBS fuzzers at a time, each a process on
+# its own core (tests/fuzz/run_smoke.sh). Each log is kept whole in
 # $(FUZZ_BUILD_DIR)/logs/NAME.log; its tail is printed on failure, the artifact in $(FUZZ_BUILD_DIR)/artifacts/.
 FUZZ_BUILD_DIR ?= build-fuzz
 FUZZ_TIMEOUT ?= 10
 fuzz-smoke: setup-fuzz
 	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSYN_FUZZ=ON -DSYN_BENCH=OFF
 	cmake --build $(FUZZ_BUILD_DIR) -j$(JOBS) --target fuzzers
-	@fuzzers=$$(ls $(FUZZ_BUILD_DIR)/bin/*_fuzzer 2>/dev/null); \
-	if [ -z "$$fuzzers" ]; then echo "fuzz-smoke: no fuzzer in $(FUZZ_BUILD_DIR)/bin" >&2; exit 1; fi; \
-	mkdir -p $(FUZZ_BUILD_DIR)/logs $(FUZZ_BUILD_DIR)/artifacts; failed=""; \
-	for fuzzer in $$fuzzers; do \
-	  name=$$(basename $$fuzzer); corpus=$(FUZZ_BUILD_DIR)/corpus/$$name; log=$(FUZZ_BUILD_DIR)/logs/$$name.log; \
-	  mkdir -p $$corpus; seeds=tests/fuzz/seeds/$${name%_fuzzer}; [ -d $$seeds ] || seeds=; \
-	  dict=tests/fuzz/$${name%_fuzzer}.dict; dict_flag=; [ -f $$dict ] && dict_flag=-dict=$$dict; \
-	  if $$fuzzer -max_total_time=$(FUZZ_SECONDS) -timeout=$(FUZZ_TIMEOUT) -max_len=65536 -rss_limit_mb=2048 \
-	      -print_final_stats=1 $$dict_flag -artifact_prefix=$(FUZZ_BUILD_DIR)/artifacts/$$name- $$corpus $$seeds > $$log 2>&1; then \
-	    echo "== $$name: $(FUZZ_SECONDS) s, $$(sed -n 's/^stat::number_of_executed_units: *//p' $$log) inputs, no finding"; \
-	  else \
-	    echo "== $$name: FAILED (exit $$?), log $$log:"; tail -n 40 $$log; failed="$$failed $$name"; \
-	  fi; \
-	done; \
-	if [ -n "$$failed" ]; then echo "fuzz-smoke: findings in:$$failed" >&2; exit 1; fi
+	tests/fuzz/run_smoke.sh $(FUZZ_BUILD_DIR) $(FUZZ_SECONDS) $(FUZZ_TIMEOUT) $(JOBS)
 
 # ---- manifest-driven runs ---------------------------------------------------------
 # `make run MANIFEST=manifests/X.toml [DATASET_ROOT=...] -jN`: syn-plan checks the manifest and writes

@@ -110,5 +110,28 @@ TEST_F(MakefileTargets, FuzzSmokeFailsOnAFindingAndKeepsTheLog) {
   EXPECT_EQ(first_line, "FIRST LINE OF THE LOG") << "the whole log is kept";
 }
 
+// JOBS fuzzers run at once (CI's two cores each fuzz one): two fake fuzzers that each wait, up to 5 s, for
+// the other to have started pass only when run together, and a run one at a time fails on them.
+TEST_F(MakefileTargets, FuzzSmokeRunsJobsFuzzersAtOnce) {
+  fs::create_directories(dir_ + "/fuzz/bin");
+  for (const std::string name : {"left", "right"}) {
+    const std::string other = name == "left" ? "right" : "left";
+    writeScript(dir_ + "/fuzz/bin/" + name + "_fuzzer",
+                "#!/bin/sh\ntouch " + dir_ + "/" + name + ".started\n"
+                "for i in $(seq 1 50); do [ -f " + dir_ + "/" + other + ".started ] && exit 0; sleep 0.1; done\n"
+                "echo 'the other fuzzer never started'; exit 1\n");
+  }
+  const std::string fuzz = " FUZZ_BUILD_DIR=" + dir_ + "/fuzz FUZZ_SECONDS=1";
+  CommandResult result = make("fuzz-smoke JOBS=2" + fuzz);
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("left_fuzzer: 1 s"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("right_fuzzer: 1 s"), std::string::npos) << result.output;
+  fs::remove(dir_ + "/left.started");
+  fs::remove(dir_ + "/right.started");
+  result = make("fuzz-smoke JOBS=1" + fuzz);
+  EXPECT_NE(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("left_fuzzer: FAILED"), std::string::npos) << result.output;
+}
+
 }  // namespace
 }  // namespace syn::testing
