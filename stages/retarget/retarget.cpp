@@ -404,10 +404,6 @@ void FindWorstJointStep(const Model& model, const MotionData& motion, RetargetSu
   }
 }
 
-// The source's foot contacts, one column per robot foot (its side's "<side>_foot" landmark; a side the
-// marker set has no foot landmark for is never in contact).
-// Per robot-map foot, its side's "<side>_foot" landmark position per frame (NaN where missing, and in every
-// frame when the marker set has no such landmark: `missing` then names it).
 // Per robot-map foot, the index of its side's "<side>_foot" landmark (-1: the marker set has none).
 std::vector<int64_t> FootLandmarks(const RobotMap& map, const LandmarkTrajectories& landmarks) {
   std::vector<int64_t> indices;
@@ -418,6 +414,8 @@ std::vector<int64_t> FootLandmarks(const RobotMap& map, const LandmarkTrajectori
   return indices;
 }
 
+// Per robot-map foot, its side's "<side>_foot" landmark position per frame (NaN where missing, and in every
+// frame when the marker set has no such landmark: `missing` then names it).
 std::vector<std::vector<Eigen::Vector3d>> FootPositions(const RobotMap& map, const LandmarkTrajectories& landmarks,
                                                         std::vector<std::string>* missing) {
   const std::vector<int64_t> indices = FootLandmarks(map, landmarks);
@@ -433,6 +431,8 @@ std::vector<std::vector<Eigen::Vector3d>> FootPositions(const RobotMap& map, con
   return positions;
 }
 
+// The source's foot contacts, one column per robot foot (its side's "<side>_foot" landmark; a side the
+// marker set has no foot landmark for is never in contact).
 FootContacts SourceContacts(const RobotMap& map, const LandmarkTrajectories& landmarks, const std::vector<double>& time_s,
                             const RetargetOptions& options, std::vector<std::string>& notes) {
   std::vector<std::string> missing;

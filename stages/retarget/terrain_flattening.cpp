@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/percentile.h"
+
 namespace syn {
 namespace {
 
@@ -11,16 +13,9 @@ namespace {
 std::vector<double> Heights(const FootContacts& contacts, int64_t landmark, const LandmarkTrajectories& landmarks) {
   std::vector<double> heights(static_cast<size_t>(landmarks.frames));
   for (int64_t t = 0; t < landmarks.frames; ++t) {
-    heights[static_cast<size_t>(t)] = landmarks.pose[static_cast<size_t>((t * landmarks.count() + landmark) * 7 + 2)] - contacts.ground;
+    heights[static_cast<size_t>(t)] = SampleAt(landmarks, t, landmark).position.z() - contacts.ground;
   }
   return heights;
-}
-
-double MedianOf(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
 }
 
 // A knot of a foot's level: at `frame` the ground under it is `level` m above the capture's ground.
@@ -36,11 +31,8 @@ std::vector<double> FootLevels(const FootContacts& contacts, int foot, const std
   std::vector<Knot> knots;
   for (const ContactPhase& phase : contacts.phases) {
     if (phase.foot != foot) continue;
-    std::vector<double> planted;
-    for (int64_t t = phase.begin; t < phase.end; ++t) {
-      if (std::isfinite(heights[static_cast<size_t>(t)])) planted.push_back(heights[static_cast<size_t>(t)]);
-    }
-    const double median = MedianOf(planted);
+    // NaN (no finite height in the phase) is not above the band: on the floor.
+    const double median = NearestRankPercentile({heights.begin() + phase.begin, heights.begin() + phase.end}, 0.5);
     const double level = median > band ? median : 0.0;
     if (level > 0) ++flattening.raised_phases, flattening.highest = std::max(flattening.highest, level);
     knots.push_back({phase.begin, level});
@@ -73,7 +65,6 @@ TerrainFlattening FlattenTerrain(const FootContacts& contacts, const std::vector
   TerrainFlattening flattening;
   const size_t frames = static_cast<size_t>(landmarks.frames);
   std::vector<std::vector<double>> foot_levels;
-  std::vector<double> body(frames, 0.0);
   for (int f = 0; f < contacts.feet && static_cast<size_t>(f) < foot_landmarks.size(); ++f) {
     if (foot_landmarks[static_cast<size_t>(f)] < 0) {
       foot_levels.emplace_back();
@@ -82,6 +73,7 @@ TerrainFlattening FlattenTerrain(const FootContacts& contacts, const std::vector
     foot_levels.push_back(FootLevels(contacts, f, Heights(contacts, foot_landmarks[static_cast<size_t>(f)], landmarks), band, flattening));
   }
   if (flattening.raised_phases == 0) return flattening;
+  std::vector<double> body(frames, 0.0);
   int measured = 0;
   for (const std::vector<double>& levels : foot_levels) {
     if (levels.empty()) continue;

@@ -12,6 +12,9 @@
 namespace syn {
 namespace {
 
+// The smallest map body a top-level key is tried with: one task.
+const std::string kOneTask = "[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n";
+
 // The line a map text's first mistake is reported at (-1: none).
 int64_t LineOfFirstError(const std::string& text) {
   try {
@@ -106,11 +109,10 @@ TEST(RobotMap, MistakesAreReportedAtTheirLine) {
 // velocity_limit_scale: the multiple of the URDF velocity limits a frame's joint step is bounded by unless
 // --velocity-limit-scale says (retarget.h), a number >= 0 (0: unbounded), 1 unless the map says.
 TEST(RobotMap, VelocityLimitScaleIsANonNegativeMultipleOneUnlessTheMapSays) {
-  const std::string task = "[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n";
-  EXPECT_EQ(LineOfFirstError("velocity_limit_scale = -1\n" + task), 1);
-  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nvelocity_limit_scale = \"fast\"\n" + task), 2);
-  EXPECT_DOUBLE_EQ(ParseRobotMap(task, "t.toml").velocity_limit_scale, 1.0);
-  EXPECT_DOUBLE_EQ(ParseRobotMap("velocity_limit_scale = 0\n" + task, "t.toml").velocity_limit_scale, 0.0);
+  EXPECT_EQ(LineOfFirstError("velocity_limit_scale = -1\n" + kOneTask), 1);
+  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nvelocity_limit_scale = \"fast\"\n" + kOneTask), 2);
+  EXPECT_DOUBLE_EQ(ParseRobotMap(kOneTask, "t.toml").velocity_limit_scale, 1.0);
+  EXPECT_DOUBLE_EQ(ParseRobotMap("velocity_limit_scale = 0\n" + kOneTask, "t.toml").velocity_limit_scale, 0.0);
   EXPECT_DOUBLE_EQ(LoadRobotMap(testing::SourcePath("manifests/robots/g1.toml")).velocity_limit_scale, 1.0);
   // HRP-4C's URDF speeds are under a person's pace: its map lets contacts rank above them (hrp4c.toml).
   EXPECT_GT(LoadRobotMap(testing::SourcePath("manifests/robots/hrp4c.toml")).velocity_limit_scale, 1.0);
@@ -118,12 +120,11 @@ TEST(RobotMap, VelocityLimitScaleIsANonNegativeMultipleOneUnlessTheMapSays) {
 
 // max_roll: how far planted feet may roll with the source (contact_enforcement.h), an angle in [0, π/2].
 TEST(RobotMap, MaxRollIsAnAngleOnlyTheMapsThatWantItGive) {
-  const std::string task = "[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n";
-  EXPECT_EQ(LineOfFirstError("max_roll = -0.1\n" + task), 1);
-  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nmax_roll = 2.0\n" + task), 2);
-  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nmax_roll = \"flat\"\n" + task), 2);
-  EXPECT_DOUBLE_EQ(ParseRobotMap(task, "t.toml").max_roll, 0.0);  // flat unless the map says
-  EXPECT_DOUBLE_EQ(ParseRobotMap("max_roll = 0.3\n" + task, "t.toml").max_roll, 0.3);
+  EXPECT_EQ(LineOfFirstError("max_roll = -0.1\n" + kOneTask), 1);
+  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nmax_roll = 2.0\n" + kOneTask), 2);
+  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nmax_roll = \"flat\"\n" + kOneTask), 2);
+  EXPECT_DOUBLE_EQ(ParseRobotMap(kOneTask, "t.toml").max_roll, 0.0);  // flat unless the map says
+  EXPECT_DOUBLE_EQ(ParseRobotMap("max_roll = 0.3\n" + kOneTask, "t.toml").max_roll, 0.3);
   EXPECT_GT(LoadRobotMap(testing::SourcePath("manifests/robots/g1.toml")).max_roll, 0.0);
   EXPECT_GT(LoadRobotMap(testing::SourcePath("manifests/robots/hrp4c.toml")).max_roll, 0.0);
 }
@@ -131,12 +132,11 @@ TEST(RobotMap, MaxRollIsAnAngleOnlyTheMapsThatWantItGive) {
 // base_smoothing: the half-width (s) of contact enforcement's pelvis moves for plants, in [0, 1]; 0.1 unless
 // the map says (HRP-4C's slow legs want them sharper).
 TEST(RobotMap, BaseSmoothingIsATimeWithTheStagesDefault) {
-  const std::string task = "[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n";
-  EXPECT_EQ(LineOfFirstError("base_smoothing = -0.01\n" + task), 1);
-  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nbase_smoothing = 2\n" + task), 2);
-  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nbase_smoothing = \"fast\"\n" + task), 2);
-  EXPECT_DOUBLE_EQ(ParseRobotMap(task, "t.toml").base_smoothing, 0.1);
-  EXPECT_DOUBLE_EQ(ParseRobotMap("base_smoothing = 0.05\n" + task, "t.toml").base_smoothing, 0.05);
+  EXPECT_EQ(LineOfFirstError("base_smoothing = -0.01\n" + kOneTask), 1);
+  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nbase_smoothing = 2\n" + kOneTask), 2);
+  EXPECT_EQ(LineOfFirstError("robot = \"x\"\nbase_smoothing = \"fast\"\n" + kOneTask), 2);
+  EXPECT_DOUBLE_EQ(ParseRobotMap(kOneTask, "t.toml").base_smoothing, 0.1);
+  EXPECT_DOUBLE_EQ(ParseRobotMap("base_smoothing = 0.05\n" + kOneTask, "t.toml").base_smoothing, 0.05);
   EXPECT_DOUBLE_EQ(LoadRobotMap(testing::SourcePath("manifests/robots/g1.toml")).base_smoothing, 0.1);
   EXPECT_LT(LoadRobotMap(testing::SourcePath("manifests/robots/hrp4c.toml")).base_smoothing, 0.1);
 }
@@ -173,11 +173,10 @@ TEST(RobotMap, JointRangesNarrowTheUrdfLimits) {
   options.joint_ranges = {{"left_knee_joint", {3.0, 4.0}}};          // G1's knee stops at 2.88 rad
   EXPECT_THROW((void)Model::Load(urdf, options), UsageError);
 
-  const std::string task = "[[task]]\nlandmark = \"pelvis\"\nlink = \"p\"\n";
-  EXPECT_EQ(LineOfFirstError(task + "[joint_ranges]\nhip = [0.5, 0.1]\n"), 5);
-  EXPECT_EQ(LineOfFirstError(task + "[joint_ranges]\nhip = [0.5]\n"), 5);
-  EXPECT_EQ(LineOfFirstError(task + "[joint_ranges]\nhip = 0.5\n"), 5);
-  const RobotMap unknown = ParseRobotMap(task + "[joint_ranges]\nhip = [-0.5, 0.5]\n", "t.toml");
+  EXPECT_EQ(LineOfFirstError(kOneTask + "[joint_ranges]\nhip = [0.5, 0.1]\n"), 5);
+  EXPECT_EQ(LineOfFirstError(kOneTask + "[joint_ranges]\nhip = [0.5]\n"), 5);
+  EXPECT_EQ(LineOfFirstError(kOneTask + "[joint_ranges]\nhip = 0.5\n"), 5);
+  const RobotMap unknown = ParseRobotMap(kOneTask + "[joint_ranges]\nhip = [-0.5, 0.5]\n", "t.toml");
   try {
     CheckRobotMapNames(unknown, [](const std::string&) { return true; }, [](const std::string&) { return false; }, "robot");
     FAIL() << "a range for a joint the robot lacks was accepted";
