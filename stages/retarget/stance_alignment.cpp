@@ -194,6 +194,45 @@ Eigen::Vector3d LinkPosition(const Model& model, Workspace& workspace, const std
   return workspace.findLinkPose(model.findLinkIndex(link)).translation();
 }
 
+// How much higher an arm may be raised at the reference frame than it is over most of the take before its
+// reference moves to a frame where it is as it mostly is (NeutralReference). A T-pose's arms are 75-80°
+// above a walker's; the first frames of the other shared CMU walks and dances are at most 24° above their
+// take's median (07_01's left arm).
+constexpr double kRaisedArmMargin = 45.0 * M_PI / 180.0;
+
+// The arm's elevation at frame t: the angle of its hand from straight down, seen from `shoulder`; NaN where
+// either is missing.
+double ArmElevation(const LandmarkTrajectories& landmarks, int64_t hand, int64_t shoulder, int64_t t) {
+  const LandmarkSample at_hand = SampleAt(landmarks, t, hand), at_shoulder = SampleAt(landmarks, t, shoulder);
+  if (!at_hand.valid || !at_shoulder.valid) return std::nan("");
+  const Eigen::Vector3d arm = at_hand.position - at_shoulder.position;
+  const double length = arm.norm();
+  return length > 0.0 ? std::acos(std::clamp(-arm.z() / length, -1.0, 1.0)) : std::nan("");
+}
+
+// The frame one arm's reference is taken from: `reference`, unless the arm is raised there more than
+// kRaisedArmMargin above its median elevation over the take (nearest rank, over the frames `usable` marks);
+// then the first of those frames at or below that median.
+int64_t TypicalArmFrame(const LandmarkTrajectories& landmarks, int64_t reference, int64_t hand, int64_t shoulder,
+                        const std::vector<bool>& usable) {
+  const double at_reference = ArmElevation(landmarks, hand, shoulder, reference);
+  if (!std::isfinite(at_reference)) return reference;
+  std::vector<double> elevations(static_cast<size_t>(landmarks.frames), std::nan(""));
+  std::vector<double> finite;
+  for (int64_t t = 0; t < landmarks.frames; ++t) {
+    if (!usable[static_cast<size_t>(t)]) continue;
+    const double elevation = elevations[static_cast<size_t>(t)] = ArmElevation(landmarks, hand, shoulder, t);
+    if (std::isfinite(elevation)) finite.push_back(elevation);
+  }
+  if (finite.empty()) return reference;
+  const double median = NearestRankPercentile(finite, 0.5);
+  if (at_reference - median <= kRaisedArmMargin) return reference;
+  for (int64_t t = 0; t < landmarks.frames; ++t) {
+    if (elevations[static_cast<size_t>(t)] <= median) return t;
+  }
+  return reference;
+}
+
 }  // namespace
 
 void MeasureRobotLegs(const Model& model, Workspace& workspace, const std::vector<std::string>& task_links,
@@ -322,6 +361,31 @@ std::vector<LandmarkSample> NeutralReference(const LandmarkTrajectories& landmar
     if (offsets[0].empty()) continue;
     for (int axis = 0; axis < 3; ++axis) {
       samples[i].position(axis) = pelvis_at_reference.position(axis) + NearestRankPercentile(offsets[static_cast<size_t>(axis)], 0.5);
+    }
+  }
+  // An arm raised at the reference frame far above where it mostly is (a walk that starts in a T-pose) is
+  // measured from a frame where it is as it mostly is, moved to the reference frame's pelvis and heading.
+  std::vector<bool> usable(static_cast<size_t>(landmarks.frames));
+  for (int64_t t = 0; t < landmarks.frames; ++t) usable[static_cast<size_t>(t)] = pelvis_at[static_cast<size_t>(t)].valid;
+  const int64_t upper_torso = LandmarkIndex(landmarks, "upper_torso");
+  for (const char* side : kSides) {
+    const std::string prefix = side;
+    const int64_t hand = LandmarkIndex(landmarks, prefix + "_hand");
+    const int64_t shoulder_landmark = LandmarkIndex(landmarks, prefix + "_shoulder");
+    const int64_t shoulder = shoulder_landmark >= 0 ? shoulder_landmark : upper_torso;
+    if (hand < 0 || shoulder < 0) continue;
+    const int64_t typical = TypicalArmFrame(landmarks, reference, hand, shoulder, usable);
+    if (typical == reference) continue;
+    const Eigen::Matrix3d& turn = unturn[static_cast<size_t>(typical)];
+    const Eigen::Vector3d& pelvis_then = pelvis_at[static_cast<size_t>(typical)].position;
+    for (size_t i = 0; i < tracked.size(); ++i) {
+      const std::string& name = landmarks.names[static_cast<size_t>(tracked[i])];
+      if (name != prefix + "_hand" && name != prefix + "_elbow") continue;
+      const LandmarkSample at = SampleAt(landmarks, typical, tracked[i]);
+      if (!at.valid) continue;
+      samples[i] = at;
+      samples[i].position = pelvis_at_reference.position + turn * (at.position - pelvis_then);
+      samples[i].orientation = Eigen::Quaterniond(turn) * at.orientation;
     }
   }
   return samples;

@@ -87,6 +87,14 @@ struct AlignmentOptions {
 // 02_01 onto G1): the planted foot out of reach at every push-off, the base lowered 10 cm for it, a crouched
 // walk. The arms keep the reference frame: the G1's reference holds its forearms forward, not hanging as a
 // walker's median does, and their median swing put its hands at the edge of reach (elbow on its limit).
+// But an arm raised at the reference frame more than 45° above its median over the take (the elevation of
+// the hand from straight down, seen from its shoulder landmark, or the upper torso's) is taken from the
+// take's first frame at or below that median, moved to the reference frame's pelvis and heading. CMU 03_02
+// starts in a T-pose, and measured from it every hanging hand of the walk was a displacement 0.45 m inwards
+// and 0.37 m down: HRP-4C's hands crossed its body at its knees (P1 error median 163 mm) and it crouched for
+// them (its right plant drifting 72 mm). A dance that holds its arms out most of the time (CMU 94_06, 94_13)
+// keeps its reference: from hanging arms, its raised ones put the G1's hands, whose reference holds the
+// forearms forward, out of reach (P1 hand error median 28 -> 103 mm on 94_13).
 // Without a pelvis landmark every landmark keeps the reference frame.
 [[nodiscard]] std::vector<LandmarkSample> NeutralReference(const LandmarkTrajectories& landmarks, int64_t reference,
                                                            const std::vector<int64_t>& tracked,

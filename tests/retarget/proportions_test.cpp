@@ -8,9 +8,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <map>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "common/intermediate_file.h"
 #include "common/markers_file.h"
@@ -182,6 +184,91 @@ TEST_F(Proportions, FeetAreMeasuredFromTheirMedianOffsetToThePelvis) {
     worst_first_frame = std::max(worst_first_frame, median_offset_error(first_frame, side));
   }
   EXPECT_GT(worst_first_frame, 0.05);
+}
+
+// The capture with each arm of frame `frame` raised sideways to the horizontal about its shoulder (CMU's
+// LeftArm / RightArm joint), as a subject calibrating in a T-pose: every body below the shoulder turned by
+// the rotation that takes its hand straight out from the other shoulder, positions and orientations.
+MarkerData WithTPoseAt(const MarkerData& capture, int64_t frame) {
+  MarkerData posed = capture;
+  const auto index = [&](const std::string& body) {
+    return static_cast<size_t>(std::find(capture.bodies.begin(), capture.bodies.end(), body) - capture.bodies.begin());
+  };
+  double* row = &posed.body_pose[static_cast<size_t>(frame) * capture.bodies.size() * 7];
+  const auto position = [&](size_t body) { return Eigen::Vector3d(row[body * 7], row[body * 7 + 1], row[body * 7 + 2]); };
+  for (const auto& [side, other] : {std::pair<std::string, std::string>{"Left", "Right"}, {"Right", "Left"}}) {
+    const size_t shoulder = index(side + "Arm");
+    const Eigen::Vector3d origin = position(shoulder);
+    Eigen::Vector3d outward = origin - position(index(other + "Arm"));
+    outward.z() = 0;
+    const Eigen::Quaterniond raise = Eigen::Quaterniond::FromTwoVectors(position(index(side + "Hand")) - origin, outward);
+    for (size_t body = 0; body < capture.bodies.size(); ++body) {
+      bool below = false;  // the shoulder itself or a descendant of it
+      for (std::string at = capture.bodies[body]; !at.empty() && !below;) {
+        below = at == side + "Arm";
+        const size_t parent = index(at);
+        at = parent < capture.body_parents.size() ? capture.body_parents[parent] : "";
+      }
+      if (!below) continue;
+      const Eigen::Vector3d moved = origin + raise * (position(body) - origin);
+      const Eigen::Quaterniond turned = raise * Eigen::Quaterniond(row[body * 7 + 3], row[body * 7 + 4], row[body * 7 + 5], row[body * 7 + 6]);
+      const double values[7] = {moved.x(), moved.y(), moved.z(), turned.w(), turned.x(), turned.y(), turned.z()};
+      std::copy(values, values + 7, row + body * 7);
+    }
+  }
+  return posed;
+}
+
+// A walk that starts in a T-pose (CMU 03_02 does): its reference frame holds the arms out, and measured from
+// it every hanging hand of the walk became a displacement inwards and down, the G1's hands crossing in front
+// of it. An arm raised that far above its median over the take is measured from the take's first frame at or
+// below that median (stance_alignment.h NeutralReference), found here from the BVH's own shoulder (LeftArm)
+// and wrist (LeftHand) joints: in that frame the hand's target sits where the G1's reference stance holds its
+// hand, relative to the pelvis (the independent FK of its zero pose), in the pelvis target's axes.
+TEST_F(Proportions, ArmsRaisedInTheFirstFrameAreMeasuredFromATypicalFrame) {
+  const MarkerData t_pose = WithTPoseAt(capture_, 0);
+  const std::string t_pose_markers = (dir_ / "t_pose.markers.h5").string();
+  {
+    IntermediateWriter writer(t_pose_markers, {kMarkersSchema, kMarkersSchemaVersion, "test", {}, nlohmann::json::array()});
+    WriteMarkerData(writer, t_pose);
+    writer.commit();
+  }
+  RetargetOptions options = Options(true);
+  options.enforce_contacts = false;
+  const MotionData from_typical = RetargetFile(t_pose_markers, options, nullptr);
+  options.neutral_reference = false;
+  const MotionData from_t_pose = RetargetFile(t_pose_markers, options, nullptr);
+  const testing::IndependentFk fk(testing::SourcePath(testing::kG1Urdf));
+  const auto links = fk.poses(std::map<std::string, double>{}, Eigen::Isometry3d::Identity());
+  const int64_t frames = static_cast<int64_t>(t_pose.time_s.size());
+  for (const std::string side : {"Left", "Right"}) {
+    SCOPED_TRACE(side);
+    std::vector<double> elevation;
+    for (int64_t t = 0; t < frames; ++t) {
+      const Eigen::Vector3d arm = Joint(t_pose, side + "Hand", t) - Joint(t_pose, side + "Arm", t);
+      elevation.push_back(std::acos(-arm.z() / arm.norm()));
+    }
+    EXPECT_NEAR(elevation[0], M_PI / 2, 1e-9);  // the T-pose
+    std::vector<double> sorted = elevation;
+    std::sort(sorted.begin(), sorted.end());
+    const double median = sorted[static_cast<size_t>(std::ceil(0.5 * static_cast<double>(frames))) - 1];  // nearest rank
+    ASSERT_LT(median, M_PI / 4);  // a walker's arms hang
+    const int64_t typical = std::find_if(elevation.begin(), elevation.end(), [&](double e) { return e <= median; }) - elevation.begin();
+    const std::string hand = side == "Left" ? "left" : "right";
+    const Eigen::Vector3d robot = links.at(hand + "_rubber_hand").translation() - links.at("pelvis").translation();
+    const auto in_pelvis_axes = [&](const MotionData& motion) {
+      const double* pelvis = &motion.landmark_targets[static_cast<size_t>(typical) * motion.landmark_names.size() * 7 +
+                                                      static_cast<size_t>(std::find(motion.landmark_names.begin(), motion.landmark_names.end(), "pelvis") -
+                                                                          motion.landmark_names.begin()) * 7];
+      const Eigen::Quaterniond axes(pelvis[3], pelvis[4], pelvis[5], pelvis[6]);
+      return Eigen::Vector3d(axes.conjugate() * (Target(motion, hand + "_hand", typical) - Target(motion, "pelvis", typical)));
+    };
+    const double off = (in_pelvis_axes(from_typical) - robot).norm(), t_posed = (in_pelvis_axes(from_t_pose) - robot).norm();
+    std::cout << hand << " hand at frame " << typical << ": " << off << " m from the G1's reference hand; measured from the T-pose "
+              << t_posed << " m\n";
+    EXPECT_LT(off, 0.02);
+    EXPECT_GT(t_posed, 0.2);
+  }
 }
 
 }  // namespace
