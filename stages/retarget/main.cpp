@@ -156,6 +156,10 @@ int main(int argc, char** argv) {
                  "On a take whose standing feet fit no floor (uneven terrain, steps), lower each raised plant onto the "
                  "robot's flat floor and the body with it, so the robot walks the terrain's steps on level ground")
       ->capture_default_str();
+  app.add_option("--hold-foot-yaw", options.hold_foot_yaw,
+                 "Hold each foot's orientation target within the turn about the pelvis its leg's vertical-axis joints "
+                 "can make (a source foot that swivels further is not followed by bending the leg onto its limits)")
+      ->capture_default_str();
   app.add_option("--enforce-contacts", options.enforce_contacts,
                  "Make the source's contacts exact, above every task: planted soles flat on z = 0 and still, no sole "
                  "point below the floor, the base lowered where a planted leg cannot reach (false: measured only)")

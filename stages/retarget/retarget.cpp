@@ -14,6 +14,7 @@
 #include "common/percentile.h"
 #include "common/markers_file.h"
 #include "stages/retarget/branch_joints.h"
+#include "stages/retarget/foot_yaw_range.h"
 #include "stages/retarget/frame_ik.h"
 #include "stages/retarget/landmarks.h"
 #include "stages/retarget/stance_alignment.h"
@@ -227,9 +228,21 @@ void TurnCalibrationToTake(const LandmarkTrajectories& landmarks, int64_t take_f
 
 // One frame's IK targets: each landmark's motion since the reference frame, turned and scaled, applied to
 // its link's reference pose. Stores them in the motion's landmark_targets; false when none is present.
+// The feet's orientation targets held within the turn their legs can make about the pelvis
+// (foot_yaw_range.h): the pelvis task and, per foot task, its range and its orientation relative to the
+// pelvis link's in the reference stance. Empty where nothing is held.
+struct FootYawHolds {
+  int pelvis_task = -1;
+  std::vector<int> foot_tasks;
+  std::vector<YawRange> ranges;
+  std::vector<Eigen::Quaterniond> reference;
+  int64_t held_foot_frames = 0;  // foot-frames whose target turned further
+};
+
 bool FrameTargets(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
                   const std::vector<LandmarkSample>& reference_samples, const std::vector<Eigen::Isometry3d>& link_reference,
-                  const StanceAlignment& alignment, int64_t t, std::vector<IkTarget>& targets, MotionData& motion) {
+                  const StanceAlignment& alignment, int64_t t, FootYawHolds& holds, std::vector<IkTarget>& targets,
+                  MotionData& motion) {
   const size_t task_count = tasks.size();
   bool any = false;
   for (size_t i = 0; i < task_count; ++i) {
@@ -246,6 +259,18 @@ bool FrameTargets(const LandmarkTrajectories& landmarks, const TrackedTasks& tas
       target.orientation =
           Eigen::Quaterniond(alignment.heading * relative * alignment.heading.transpose() * link_reference[i].linear());
     }
+  }
+  const IkTarget* pelvis = holds.pelvis_task >= 0 ? &targets[static_cast<size_t>(holds.pelvis_task)] : nullptr;
+  for (size_t foot = 0; pelvis && pelvis->active && pelvis->has_orientation && foot < holds.foot_tasks.size(); ++foot) {
+    IkTarget& target = targets[static_cast<size_t>(holds.foot_tasks[foot])];
+    if (target.active && target.has_orientation &&
+        HoldFootYaw(pelvis->orientation, holds.reference[foot], holds.ranges[foot], target.orientation)) {
+      ++holds.held_foot_frames;
+    }
+  }
+  for (size_t i = 0; i < task_count; ++i) {
+    const IkTarget& target = targets[i];
+    if (!target.active) continue;
     double* stored = &motion.landmark_targets[(static_cast<size_t>(t) * task_count + i) * 7];
     stored[0] = target.position.x(), stored[1] = target.position.y(), stored[2] = target.position.z();
     if (target.has_orientation) {
@@ -280,14 +305,14 @@ MotionData EmptyMotion(const Model& model, const MarkerData& capture, const Land
 void SolveFrames(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
                  const std::vector<LandmarkSample>& reference_samples, const std::vector<Eigen::Isometry3d>& link_reference,
                  const StanceAlignment& alignment, const Eigen::VectorXd& q_start, double velocity_limit_scale,
-                 FrameIk& ik, MotionData& motion, std::vector<std::vector<IkTarget>>& frame_targets,
+                 FootYawHolds& holds, FrameIk& ik, MotionData& motion, std::vector<std::vector<IkTarget>>& frame_targets,
                  std::vector<int64_t>& bridged, RetargetSummary& report) {
   const int64_t frames = landmarks.frames, nq = static_cast<int64_t>(q_start.size());
   std::vector<IkTarget> targets(tasks.size());
   Eigen::VectorXd q = q_start;
   double last_solved_time = std::nan("");  // the first solve may travel from q_start freely
   for (int64_t t = 0; t < frames; ++t) {
-    if (!FrameTargets(landmarks, tasks, reference_samples, link_reference, alignment, t, targets, motion)) {
+    if (!FrameTargets(landmarks, tasks, reference_samples, link_reference, alignment, t, holds, targets, motion)) {
       bridged.push_back(t);
       ik.forgetHistory();
     } else {
@@ -672,7 +697,7 @@ nlohmann::json RetargetOptions::ToJson() const {
           {"smoothing", smoothing}, {"posture_scale", posture_scale}, {"ik_function_tolerance", ik_function_tolerance},
           {"contact_height", contact.height}, {"contact_speed", contact.speed}, {"contact_release", contact.release},
           {"contact_min_duration", contact.min_duration}, {"contact_uneven_ground", contact.uneven_ground},
-          {"enforce_contacts", enforce_contacts}, {"flatten_terrain", flatten_terrain},
+          {"enforce_contacts", enforce_contacts}, {"flatten_terrain", flatten_terrain}, {"hold_foot_yaw", hold_foot_yaw},
           {"contact_blend", enforcement.blend}, {"contact_blend_horizontal", enforcement.horizontal_blend},
           {"stance_knee", enforcement.stance_knee},
           {"max_lowering", enforcement.max_lowering}, {"lowering_smoothing", enforcement.lowering_smoothing},
@@ -850,8 +875,26 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   // from where the next frames bend it only as fast as the motors allow.
   Eigen::VectorXd q_start = q_posture;
   BendBranchJoints(BranchCoordinates(model), q_start);
-  SolveFrames(landmarks, tasks, reference_samples, link_reference, alignment, q_start, velocity_limit_scale, ik, motion,
-              frame_targets, bridged, report);
+  FootYawHolds holds;
+  if (options.hold_foot_yaw) {
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      if (landmarks.names[static_cast<size_t>(tasks.landmark[i])] == "pelvis" && tasks.ik[i].type == TaskType::kPose) holds.pelvis_task = static_cast<int>(i);
+    }
+    for (int task : holds.pelvis_task >= 0 ? foot_tasks : std::vector<int>{}) {
+      if (task < 0 || tasks.ik[static_cast<size_t>(task)].type == TaskType::kPosition) continue;
+      const size_t pelvis = static_cast<size_t>(holds.pelvis_task);
+      holds.foot_tasks.push_back(task);
+      holds.ranges.push_back(FootYawRange(model, workspace, q_ref, tasks.ik[pelvis].link, tasks.ik[static_cast<size_t>(task)].link));
+      holds.reference.emplace_back(link_reference[pelvis].linear().transpose() * link_reference[static_cast<size_t>(task)].linear());
+    }
+  }
+  SolveFrames(landmarks, tasks, reference_samples, link_reference, alignment, q_start, velocity_limit_scale, holds, ik,
+              motion, frame_targets, bridged, report);
+  if (holds.held_foot_frames > 0) {
+    report.notes.push_back(std::to_string(holds.held_foot_frames) +
+                           " foot-frame(s) whose source foot turned about the pelvis further than the leg's joints can turn "
+                           "it: their orientation targets held at the leg's limit (foot_yaw_range.h)");
+  }
   report.ik_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   BridgeGaps(model, motion.time_s, bridged, options.max_bridge, inputs.capture_path, motion.q);
 

@@ -78,6 +78,9 @@ struct RetargetOptions {
   // On a take whose stances fit no floor (uneven terrain), the raised plants and the body above them
   // lowered onto the robot's flat floor (terrain_flattening.h).
   bool flatten_terrain = true;
+  // Each foot's orientation target held within the turn about the pelvis its leg's joints can make
+  // (foot_yaw_range.h): a capture's foot that swivels further is not followed by contorting the leg.
+  bool hold_foot_yaw = true;
   // Contacts as constraints above every task (contact_enforcement.h): planted soles flat on the floor and
   // still, no sole point below it, the base lowered where a planted leg cannot reach. false: measured only.
   bool enforce_contacts = true;
