@@ -54,20 +54,21 @@ std::vector<std::string> CmuTrials(const std::vector<std::string>& classes) {
 
 struct Robot {
   std::string name, urdf, map;
+  std::string pelvis_link;  // the map's pelvis task link
   std::vector<std::string> foot_links;
   std::vector<std::vector<Eigen::Vector3d>> sole_points;  // per foot, link frame (from the robot map text)
 };
 
 Robot G1() {
   const std::vector<Eigen::Vector3d> sole = {{-0.05, 0.025, -0.035}, {-0.05, -0.025, -0.035}, {0.12, 0.03, -0.035}, {0.12, -0.03, -0.035}};
-  return {"G1", testing::SourcePath(testing::kG1Urdf), testing::SourcePath(testing::kG1Map),
+  return {"G1", testing::SourcePath(testing::kG1Urdf), testing::SourcePath(testing::kG1Map), "pelvis",
           {"left_ankle_roll_link", "right_ankle_roll_link"}, {sole, sole}};
 }
 
 Robot Hrp4c() {
   const std::vector<Eigen::Vector3d> sole = {{-0.02, 0.05, -0.08}, {-0.02, -0.05, -0.08}, {0.18, 0.05, -0.08}, {0.18, -0.05, -0.08}};
   return {"HRP-4C", testing::SharedPath("robots/humanoid_synergies/HRP4c_optitrack_model.urdf"),
-          testing::SourcePath("manifests/robots/hrp4c.toml"), {"LL_foot", "RL_foot"}, {sole, sole}};
+          testing::SourcePath("manifests/robots/hrp4c.toml"), "hip_base", {"LL_foot", "RL_foot"}, {sole, sole}};
 }
 
 struct ContactCheck {
@@ -84,6 +85,11 @@ struct ContactCheck {
   // bound saws up.
   double swing_under_source = 0;
   double largest_lowest_second_difference = 0;
+  // The pelvis link's origin: its lowest height, and the most it sinks under its target's height (m). Soles
+  // alone do not see a robot whose pelvis goes to the floor while its feet stay planted (CMU 94_07 onto G1
+  // before its feet's turns were held: pelvis 0.80 m under its target, at z = -0.02).
+  double lowest_pelvis = 1e9;
+  double pelvis_sinking = -1e9;
 };
 
 // A foot's sole points at `pose`: their centre and the lowest one's height.
@@ -117,6 +123,14 @@ ContactCheck CheckContacts(const MotionData& motion, const Robot& robot, const t
       lowest_frame = std::min(lowest_frame, sample.lowest_z);
       robot_feet[f].push_back(sample);
       centre[f].emplace_back(sample.x, sample.y);
+    }
+    const double pelvis = poses.at(robot.pelvis_link).translation().z();
+    check.lowest_pelvis = std::min(check.lowest_pelvis, pelvis);
+    const size_t pelvis_task = static_cast<size_t>(std::find(motion.landmark_names.begin(), motion.landmark_names.end(), "pelvis") -
+                                                   motion.landmark_names.begin());
+    if (pelvis_task < motion.landmark_names.size()) {
+      const double target = motion.landmark_targets[(static_cast<size_t>(t) * motion.landmark_names.size() + pelvis_task) * 7 + 2];
+      if (std::isfinite(target)) check.pelvis_sinking = std::max(check.pelvis_sinking, target - pelvis);
     }
     if (lowest_frame < -0.01) ++penetrating;
     if (lowest_frame > 0.02) ++hovering;
@@ -249,6 +263,7 @@ struct SweepResult {
   // no flight phase); and the walks whose floor is no plane (uneven terrain).
   int flat_floor_walks = 0, grounded_walks = 0;
   std::vector<std::string> uneven_floor_walks;
+  double lowest_pelvis = 1e9, pelvis_sinking = -1e9;  // over every trial, as ContactCheck's
 };
 
 // Contact phases whose planted sole rose more than 5 mm off the floor (ContactCheck::lift).
@@ -265,7 +280,7 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
   int trials = 0, floor_met = 0, skating_met = 0, drift_met = 0, flat_floor_walks = 0, grounded_walks = 0;
   std::vector<std::string> uneven_floor_walks;
   const std::vector<std::string> walks = CmuTrials({"walk"});
-  double all_penetrating = 0, all_frames = 0;
+  double all_penetrating = 0, all_frames = 0, lowest_pelvis = 1e9, pelvis_sinking = -1e9;
   for (const std::string& file : CmuTrials({"walk", "dance"})) {
     SCOPED_TRACE(file + " onto " + robot.name);
     const std::string markers = CmuMarkers(file, scratch.file("capture.markers.h5"));
@@ -305,6 +320,12 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
     }
     all_drift.insert(all_drift.end(), check.drift.begin(), check.drift.end());
     all_lift.insert(all_lift.end(), check.lift.begin(), check.lift.end());
+    lowest_pelvis = std::min(lowest_pelvis, check.lowest_pelvis);
+    pelvis_sinking = std::max(pelvis_sinking, check.pelvis_sinking);
+    if (check.pelvis_sinking > 0.3) {
+      std::fprintf(stderr, "%s onto %s: pelvis %.0f mm under its target at worst, lowest at %.0f mm\n", stem.c_str(),
+                   robot.name.c_str(), 1000 * check.pelvis_sinking, 1000 * check.lowest_pelvis);
+    }
     all_penetrating += check.penetrating_fraction * static_cast<double>(check.frames);
     all_frames += static_cast<double>(check.frames);
     std::fprintf(stderr, "%-10s %-7s %6lld %8.2f %8.1f %8.1f %8.1f %8.3f %8.3f\n",
@@ -325,7 +346,10 @@ SweepResult CheckEveryWalkAndDance(const Robot& robot, bool free_base) {
   std::fprintf(stderr, "%s: %d of %d walks on a plane floor have a sole within 2 cm of the floor in at least 98 %% of "
                "frames; floor no plane (not levelled):%s\n", robot.name.c_str(), grounded_walks, flat_floor_walks, uneven.c_str());
   EXPECT_EQ(trials, 32);  // the walk and dance rows of index.csv (quoted labels hold commas)
-  return {all_drift, all_lift, floor_met, skating_met, drift_met, flat_floor_walks, grounded_walks, uneven_floor_walks};
+  std::fprintf(stderr, "%s: pelvis at least %.0f mm above the floor, at most %.0f mm under its target\n", robot.name.c_str(),
+               1000 * lowest_pelvis, 1000 * pelvis_sinking);
+  return {all_drift, all_lift, floor_met, skating_met, drift_met, flat_floor_walks, grounded_walks, uneven_floor_walks,
+          lowest_pelvis, pelvis_sinking};
 }
 
 // Walking has no flight phase: a robot walk with every sole more than 2 cm above the floor is hovering.
@@ -703,6 +727,11 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoG1) {
   // see. Phases whose planted sole rose more than 5 mm, of 560: 36 until the base came down onto a planted
   // foot left in the air (2026-11-27), 19 since (94_15 48 mm: a kick the floor rounds lift the base for).
   EXPECT_LE(LiftedPhases(result.lift), 23);
+  // The pelvis by the independent FK (session 30): at least 0.31 m above the floor (94_07's squat) and at most
+  // 0.24 m under its target (60_10; the contacts lower the base where a planted leg cannot reach). Before the
+  // feet's turns were held, 94_07's went to -0.02 m, 0.80 m under its target.
+  EXPECT_GE(result.lowest_pelvis, 0.25);
+  EXPECT_LE(result.pelvis_sinking, 0.3);
 }
 
 TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
@@ -753,6 +782,11 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
   // frame that leaves a joint at rest (05_01, 08_04 and 03_01 start one frame later); 32 with the map's
   // sharper pelvis moves for plants.
   EXPECT_LE(LiftedPhases(result.lift), 36);
+  // The pelvis (session 30): at least 0.42 m above the floor, and at most 0.52 m under its target: CMU
+  // 94_15's leaps, whose pelvis targets rise 1.0 m above the planted foot, past HRP-4C's legs, and which its
+  // legs, bent 107° at take-off and held to 4 times their URDF speed, do not straighten for in time.
+  EXPECT_GE(result.lowest_pelvis, 0.4);
+  EXPECT_LE(result.pelvis_sinking, 0.6);
 }
 
 }  // namespace
