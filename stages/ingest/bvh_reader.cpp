@@ -196,6 +196,28 @@ int64_t EaseInEnd(const std::vector<double>& values, const std::vector<BvhJoint>
   return run >= kEaseInRun ? first + run : first;
 }
 
+// A teleport in the take's first kLeadInSeconds (BvhOptions::drop_first_frame): a joint that moves more than
+// kTeleportSpeed rest-pose sizes (the rest pose's largest extent, a standing subject's height) per second
+// between two frames ends a lead-in that is not the take. CMU 03_02 holds its T-pose arms for 50 frames while
+// its legs walk (its whole body also jumps 11 cm at frame 24), then its hands jump 69 cm in one frame
+// (64 statures/s): retargeted, the robot's arms snapped there, and the simulated G1 in paper mode, its arm
+// torques at their limits, spun a shoulder through 378°. The other 50 CMU takes of the shared data move at
+// most 15 statures/s in their first 0.5 s (a hand's 15 m/s is about 9).
+constexpr double kLeadInSeconds = 0.5;
+constexpr double kTeleportSpeed = 50.0;  // rest-pose sizes per second
+
+// The rest pose's largest extent along any axis, in file units.
+double RestSize(const std::vector<BvhJoint>& joints) {
+  std::vector<Eigen::Vector3d> world(joints.size());
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(INFINITY), high = Eigen::Vector3d::Constant(-INFINITY);
+  for (size_t j = 0; j < joints.size(); ++j) {
+    world[j] = joints[j].parent < 0 ? joints[j].offset : world[static_cast<size_t>(joints[j].parent)] + joints[j].offset;
+    low = low.cwiseMin(world[j]);
+    high = high.cwiseMax(world[j]);
+  }
+  return (high - low).maxCoeff();
+}
+
 }  // namespace
 
 MarkerData ParseBvh(std::string_view text, const std::string& source_name, const BvhOptions& options) {
@@ -324,9 +346,6 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
   // its target, P1 median 47 mm; 30 mm without those frames).
   const int64_t after_reference = first;
   if (first > 0) first = EaseInEnd(values, joints, channel_count, frames_read, first, frame_time);
-  const int64_t frames = frames_read - first;
-  data.time_s.resize(static_cast<size_t>(frames));
-  data.body_pose.resize(static_cast<size_t>(frames) * joints.size() * 7);
   std::vector<Eigen::Isometry3d> world(joints.size());
   // Every joint's pose in frame `row` of the file, into poses[B, 7].
   const auto pose_joints = [&](int64_t row_index, double* poses) {
@@ -354,6 +373,26 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
       pose[3] = orientation.w(), pose[4] = orientation.x(), pose[5] = orientation.y(), pose[6] = orientation.z();
     }
   };
+  // The lead-in before a teleport (kTeleportSpeed) goes too: the take starts at the frame after the jump.
+  const int64_t after_ease_in = first;
+  const double rest_size = RestSize(joints);
+  if (first > 0 && rest_size > 0) {
+    std::vector<double> before(joints.size() * 7), after(joints.size() * 7);
+    const int64_t last = std::min(frames_read - 2, after_ease_in + static_cast<int64_t>(std::lround(kLeadInSeconds / frame_time)));
+    pose_joints(after_ease_in, before.data());
+    for (int64_t k = after_ease_in + 1; k <= last; ++k) {
+      pose_joints(k, after.data());
+      double step = 0.0;
+      for (size_t j = 0; j < joints.size(); ++j) {
+        step = std::max(step, (Eigen::Map<const Eigen::Vector3d>(&after[j * 7]) - Eigen::Map<const Eigen::Vector3d>(&before[j * 7])).norm());
+      }
+      if (step / frame_time > kTeleportSpeed * rest_size) first = k;
+      std::swap(before, after);
+    }
+  }
+  const int64_t frames = frames_read - first;
+  data.time_s.resize(static_cast<size_t>(frames));
+  data.body_pose.resize(static_cast<size_t>(frames) * joints.size() * 7);
   for (int64_t t = 0; t < frames; ++t) {
     data.time_s[static_cast<size_t>(t)] = static_cast<double>(t) * frame_time;
     pose_joints(t + first, &data.body_pose[static_cast<size_t>(t) * joints.size() * 7]);
@@ -390,7 +429,8 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
                           {"frame_time_s", frame_time},
                           {"dropped_first_frame", first >= 1},
                           {"dropped_lead_frames", first},
-                          {"dropped_ease_in_frames", first - after_reference},
+                          {"dropped_ease_in_frames", after_ease_in - after_reference},
+                          {"dropped_teleport_frames", first - after_ease_in},
                           {"rest_height_units", RestHeight(joints)},
                           {"channel_layout", layout},
                           {"convention", daz ? "cmu-daz" : (cmu_hips ? (mixed_arm_order ? "cmu-3dsmax" : "cmu-motionbuilder") : "unknown")}};

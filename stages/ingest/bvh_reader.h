@@ -22,7 +22,9 @@ struct BvhOptions {
   // right after it with every channel exactly zero (a second reference frame,
   // as in 07_12) are dropped too, and so are the frames that ease in from it
   // (bvh_reader.cpp, EaseInEnd: some copies of CMU blend from the rest pose into
-  // the take over 4-5 frames).
+  // the take over 4-5 frames), and a lead-in of up to 0.5 s that ends where a
+  // joint jumps faster than any body moves (kTeleportSpeed: CMU 03_02 holds its
+  // T-pose arms for 50 frames of its walk, then its hands jump 69 cm in a frame).
   bool drop_first_frame = false;
 };
 

@@ -54,6 +54,7 @@ struct IngestSummary {
   // calibration frame (bvh_reader.h).
   int64_t dropped_lead_frames = 0;
   int64_t dropped_ease_in_frames = 0;
+  int64_t dropped_teleport_frames = 0;  // of those, a lead-in ended by a joint's teleport (bvh_reader.cpp)
 
   std::string BriefReport() const;
 };

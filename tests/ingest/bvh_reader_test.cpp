@@ -210,6 +210,57 @@ TEST(BvhReader, DropFirstFrameAlsoDropsTheEaseInFromIt) {
   EXPECT_EQ(ParseBvh(ArmTake(arm), "eased.bvh", {}).frame_count(), 26);
 }
 
+// A lead-in that ends in a teleport (bvh_reader.cpp kTeleportSpeed) goes with the calibration frame: the arm
+// holds near 1° for frames 1-5 (not at rest: frames left at zero go by another rule), then turns to 170° in one frame (its end 10 units in 1/120 s, 80 rest-pose sizes
+// per second; a body moves at most about 9), then moves 0.1° a frame. The same jump after the first 0.5 s is
+// kept (the take's own glitch, not its lead-in), and so is a fast but possible step (20° in a frame, 14 sizes/s).
+TEST(BvhReader, DropFirstFrameAlsoDropsALeadInEndedByATeleport) {
+  std::vector<double> lead_in = {0, 1, 1.01, 1.02, 1.03, 1.04};
+  for (int k = 0; k < 20; ++k) lead_in.push_back(170 + 0.1 * k);
+  BvhOptions options;
+  options.drop_first_frame = true;
+  const MarkerData jumped = ParseBvh(ArmTake(lead_in), "lead_in.bvh", options);
+  ASSERT_EQ(jumped.frame_count(), 20);
+  EXPECT_EQ(jumped.metadata.at("bvh").at("dropped_teleport_frames"), 5);
+  EXPECT_EQ(jumped.metadata.at("bvh").at("dropped_lead_frames"), 6);
+  const double first_angle = std::atan2(Position(jumped, 0, 2).y() - Position(jumped, 0, 1).y(),
+                                        Position(jumped, 0, 2).x() - Position(jumped, 0, 1).x());
+  EXPECT_NEAR(first_angle * 180 / M_PI, 170, 1e-9);
+  std::vector<double> late = {0};  // the jump at frame 66, 0.54 s after frame 1
+  for (int k = 1; k < 66; ++k) late.push_back(1 + 0.01 * k);
+  for (int k = 0; k < 20; ++k) late.push_back(170 + 0.1 * k);
+  const MarkerData kept = ParseBvh(ArmTake(late), "late.bvh", options);
+  EXPECT_EQ(kept.frame_count(), 85);
+  EXPECT_EQ(kept.metadata.at("bvh").at("dropped_teleport_frames"), 0);
+  std::vector<double> fast = {0, 1, 1.01, 21};
+  for (int k = 0; k < 20; ++k) fast.push_back(21 + 0.1 * k);
+  EXPECT_EQ(ParseBvh(ArmTake(fast), "fast.bvh", options).frame_count(), 23);
+}
+
+// CMU 03_02 holds its T-pose arms for 50 frames while its legs walk, then its hands jump 69 cm in a frame:
+// those frames are dropped. The ingest summary says so.
+TEST(BvhReader, RealCmuLeadInBeforeATeleportIsDropped) {
+  SYN_REQUIRE_SHARED("cmu_bvh/03/03_02.bvh");
+  IngestOptions options;
+  options.drop_first_frame = true;
+  IngestSummary summary;
+  const MarkerData take = IngestCapture(testing::SharedPath("cmu_bvh/03/03_02.bvh"), options, &summary);
+  EXPECT_EQ(summary.dropped_teleport_frames, 50);
+  EXPECT_EQ(summary.dropped_lead_frames, 51);
+  EXPECT_NE(summary.BriefReport().find("50 before a joint jumped faster than any body moves"), std::string::npos)
+      << summary.BriefReport();
+  // What is left moves like a body: no joint faster than 10 statures (here the rest pose's height) a second.
+  const auto hands = std::find(take.bodies.begin(), take.bodies.end(), "RightHand") - take.bodies.begin();
+  double fastest = 0;
+  for (int64_t t = 1; t < take.frame_count(); ++t) {
+    const double* before = &take.body_pose[(static_cast<size_t>(t - 1) * take.bodies.size() + static_cast<size_t>(hands)) * 7];
+    const double* after = &take.body_pose[(static_cast<size_t>(t) * take.bodies.size() + static_cast<size_t>(hands)) * 7];
+    fastest = std::max(fastest, std::hypot(after[0] - before[0], after[1] - before[1], after[2] - before[2]) /
+                                    (take.time_s[1] - take.time_s[0]));
+  }
+  EXPECT_LT(fastest, 10.0) << "m/s, the right hand";
+}
+
 // The real files: a lawrennd-family copy eases in over frames 1-4, cgspeed's starts at frame 1.
 TEST(BvhReader, RealCmuEaseInsAreDroppedAndCgspeedTakesKept) {
   SYN_REQUIRE_SHARED("cmu_bvh");
@@ -221,6 +272,8 @@ TEST(BvhReader, RealCmuEaseInsAreDroppedAndCgspeedTakesKept) {
   const MarkerData cgspeed = ReadBvh(testing::SharedPath("cmu_bvh/02/02_01.bvh"), options);
   EXPECT_EQ(cgspeed.metadata.at("bvh").at("dropped_ease_in_frames"), 0);
   EXPECT_EQ(cgspeed.frame_count(), 343);
+  EXPECT_EQ(eased.metadata.at("bvh").at("dropped_teleport_frames"), 0);
+  EXPECT_EQ(cgspeed.metadata.at("bvh").at("dropped_teleport_frames"), 0);
 }
 
 // syn-ingest's summary line says what the start lost.
