@@ -185,9 +185,9 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   std::optional<JointStops> joint_stops;
   // The source's planted flags per map foot (zero where the motion has none).
   std::vector<int> contact_column(map.feet.size(), -1);
+  joint_stops.emplace(model, JointStopOptions{});
   if (ground) {
     ground_contact.emplace(model, map.feet, GroundContactOptions{});
-    joint_stops.emplace(model, JointStopOptions{});
     ContactForceOptions planned;
     planned.max_height = kPlannedForceHeight;
     distribution.emplace(model, map.feet, planned, options.controller.effort_limits);
@@ -292,7 +292,22 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       implicit_solver.compute(implicit_mass);
       udot = implicit_solver.solve(applied);
     } else {
-      controller.calcAcceleration(tau, udot);
+      // The driven base's robot has its joints' stops too. Free of them (most steps), the plain O(n)
+      // acceleration; against one, the same linearly implicit step as on the ground, without the floor.
+      contact_forces.setZero();
+      contact_stiffness.setZero();
+      contact_damping.setZero();
+      const int engaged = joint_stops->add(q, u, dt, contact_forces, contact_stiffness, contact_damping);
+      summary.stopped_joint_steps += engaged;
+      if (engaged == 0) {
+        controller.calcAcceleration(tau, udot);
+      } else {
+        applied = tau + contact_forces - controller.biasForces();
+        applied.noalias() -= dt * (contact_stiffness * u);
+        implicit_mass = controller.massMatrix() + dt * contact_damping + dt * dt * contact_stiffness;
+        implicit_solver.compute(implicit_mass);
+        udot = implicit_solver.solve(applied);
+      }
     }
     summary.saturated_entries += saturated;
     summary.saturated_steps += saturated > 0 ? 1 : 0;
@@ -307,9 +322,9 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     summary.deepest_penetration_mm = 0;
     summary.lowest_pelvis_ratio = std::numeric_limits<double>::infinity();
     summary.peak_vertical_force_n = 0;
-    summary.stopped_joint_steps = 0;
-    summary.worst_limit_excess_deg = 0;
   }
+  summary.stopped_joint_steps = 0;
+  summary.worst_limit_excess_deg = 0;
   double unexplained_force_sq = 0, unexplained_torque_sq = 0;
   for (int64_t t = 0; t < frames; ++t) {
     // The interval to the next frame in equal steps of at most 1/rate (the last frame: one nominal step,
@@ -355,9 +370,9 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       if (!q.allFinite() || !u.allFinite() || u.cwiseAbs().maxCoeff() > kDivergedVelocity) {
         throw DataError(Location::AtFrame(input_name, t), "the simulation diverged at t = " + std::to_string(input.time_s[static_cast<size_t>(t)] + (step + 1) * dt) + " s");
       }
+      summary.worst_limit_excess_deg = std::max(summary.worst_limit_excess_deg, joint_stops->worstExcess(q) * kDegreesPerRadian);
       if (ground) {
         summary.deepest_penetration_mm = std::max(summary.deepest_penetration_mm, ground_contact->deepestPenetration() * 1000);
-        summary.worst_limit_excess_deg = std::max(summary.worst_limit_excess_deg, joint_stops->worstExcess(q) * kDegreesPerRadian);
         // The base's position is q[4..6] (after its quaternion); the reference's at the frame ahead.
         const double fraction = static_cast<double>(step + 1) / static_cast<double>(steps);
         const double reference = (1 - fraction) * input.q[static_cast<size_t>(t * nq + 6)] + fraction * input.q[static_cast<size_t>((t + 1) * nq + 6)];

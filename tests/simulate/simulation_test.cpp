@@ -132,6 +132,12 @@ namespace syn {
 namespace {
 
 // The ground-mode tests: G1 with its robot map, contact mode ground.
+class PaperMode : public ::testing::Test {
+ protected:
+  const Model model = Model::Load(SourcePath(testing::kG1Urdf));
+  const RobotMap map = LoadRobotMap(SourcePath("manifests/robots/g1.toml"));
+};
+
 class GroundMode : public ::testing::Test {
  protected:
   GroundMode() { options.contact = ContactMode::kGround; }
@@ -386,6 +392,39 @@ TEST_F(GroundMode, SwingLiftRaisesTheSwingingFoot) {
   EXPECT_NEAR(unlifted, reference, 0.01);
   EXPECT_GT(lifted - unlifted, 0.02);
   EXPECT_LT(lifted - unlifted, 0.06);
+}
+
+// Paper mode (a driven base, no floor) on the CMU dances, at the defaults (the URDF's effort limits): the
+// simulated robot has its joints' mechanical stops in this mode too (joint_stops.h). Without them, where the
+// limited torques let a joint fall behind a fast reference, it turned on past its limits: a shoulder through
+// 378-714° (05_02, 05_11, 60_02, 94_07, 94_15; joint RMS to the kinematic motion 35-137°), and 05_20 and 60_10
+// diverged. With them every dance completes and every joint stays inside its limits; the joint RMS is still
+// 5-23° on 7 of the 11 (the wrists, saturated, swing between their stops), reported, not asserted: issue 18's
+// bound is on the walks (PaperModeReproducesKinematicWalk, and all 21 CMU walks within 1°).
+TEST_F(PaperMode, CmuDancesStayInsideTheirJointLimits) {
+#ifdef SYN_SANITIZED_BUILD
+  GTEST_SKIP() << "the real-data paper-mode sweep runs in the Release test run, not under the sanitizers";
+#endif
+  SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
+  std::ifstream index(testing::SharedPath("cmu_bvh/index.csv"));
+  std::string line;
+  std::getline(index, line);
+  int dances = 0;
+  while (std::getline(index, line)) {
+    const std::vector<std::string> cells = SplitQuotedCsv(line);
+    if (cells.size() < 5 || cells[4] != "dance") continue;
+    ++dances;
+    const MotionData dance = testing::CmuBvhOnG1(testing::SharedPath("cmu_bvh/" + cells[2]));
+    try {
+      const SimulationResult result = Simulate(dance, cells[1], model, map, SimulateOptions{});
+      std::printf("%s paper mode: joint RMS to the kinematic motion %.2f deg; %s\n", cells[1].c_str(),
+                  result.summary.joint_rms_deg, LimitExcess(model, result.motion).c_str());
+      EXPECT_LE(WorstLimitExcess(model, result.motion), kStopTolerance) << cells[1] << ": a joint past its URDF limit";
+    } catch (const DataError& error) {
+      ADD_FAILURE() << cells[1] << ": " << error.what();
+    }
+  }
+  EXPECT_EQ(dances, 11);
 }
 
 TEST_F(GroundMode, SomeCmuWalksStayUp) {
