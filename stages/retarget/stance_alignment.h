@@ -92,7 +92,8 @@ struct AlignmentOptions {
 // take's first frame at or below that median, moved to the reference frame's pelvis and heading. CMU 03_02
 // starts in a T-pose, and measured from it every hanging hand of the walk was a displacement 0.45 m inwards
 // and 0.37 m down: HRP-4C's hands crossed its body at its knees (P1 error median 163 mm) and it crouched for
-// them (its right plant drifting 72 mm). A dance that holds its arms out most of the time (CMU 94_06, 94_13)
+// them (its right plant drifting 72 mm). (syn-ingest now drops 03_02's T-pose lead-in, bvh_reader.cpp; the rule
+// stays for takes that begin in a T-pose without a jump.) A dance that holds its arms out most of the time (CMU 94_06, 94_13)
 // keeps its reference: from hanging arms, its raised ones put the G1's hands, whose reference holds the
 // forearms forward, out of reach (P1 hand error median 28 -> 103 mm on 94_13).
 // Without a pelvis landmark every landmark keeps the reference frame.

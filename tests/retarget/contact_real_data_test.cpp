@@ -770,7 +770,8 @@ TEST(RetargetContacts, EveryCmuWalkAndDanceOntoHrp4c) {
   // straightened on the branch bound under a pelvis 0.1 m out of reach).
   // Session 30: 03_02's first frame, a T-pose, no longer the arms' reference (stance_alignment.h
   // NeutralReference): its hands had been asked to cross in front of the knees, and the IK crouched for them.
-  // Its right stance 72.3 -> 5.1 mm p95: drift 32, every trial within every bound.
+  // Its right stance 72.3 -> 5.1 mm p95: drift 32, every trial within every bound. Since syn-ingest drops
+  // 03_02's T-pose lead-in (bvh_reader.cpp), its first frame is a walking one: 4.0 mm p95.
   EXPECT_EQ(result.floor_met, 32);
   EXPECT_GE(result.drift_met, 31);
   ExpectWalksOnTheFloor(result);
