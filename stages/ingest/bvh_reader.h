@@ -24,7 +24,8 @@ struct BvhOptions {
   // (bvh_reader.cpp, EaseInEnd: some copies of CMU blend from the rest pose into
   // the take over 4-5 frames), and a lead-in of up to 0.5 s that ends where a
   // joint jumps faster than any body moves (kTeleportSpeed: CMU 03_02 holds its
-  // T-pose arms for 50 frames of its walk, then its hands jump 69 cm in a frame).
+  // T-pose arms for 50 frames of its walk, then its hands jump 69 cm in a frame),
+  // and a run of frames repeating one pose exactly before the take moves (08_07).
   bool drop_first_frame = false;
 };
 

@@ -118,11 +118,12 @@ std::string IngestSummary::BriefReport() const {
       << " marker samples missing; up axis " << static_cast<char>(std::toupper(up_axis)) << " (" << up_axis_reason << ")";
   if (dropped_lead_frames == 1) out << "; frame 0 dropped (the calibration frame, kept aside)";
   if (dropped_lead_frames > 1) {
-    const int64_t zero_frames = dropped_lead_frames - 1 - dropped_ease_in_frames - dropped_teleport_frames;
+    const int64_t zero_frames = dropped_lead_frames - 1 - dropped_ease_in_frames - dropped_teleport_frames - dropped_held_frames;
     out << "; the first " << dropped_lead_frames << " frames dropped (the calibration frame, kept aside";
     if (zero_frames > 0) {
       out << "; " << zero_frames << " reference frame" << (zero_frames > 1 ? "s" : "") << " left at zero, whole or a joint";
     }
+    if (dropped_held_frames > 0) out << "; " << dropped_held_frames << " holding one pose before the take moves";
     if (dropped_ease_in_frames > 0) out << "; " << dropped_ease_in_frames << " easing in from it";
     if (dropped_teleport_frames > 0) {
       out << "; " << dropped_teleport_frames << " before a joint jumped faster than any body moves";
@@ -172,6 +173,7 @@ MarkerData IngestCapture(const std::string& path, const IngestOptions& options, 
       summary->dropped_lead_frames = bvh->at("dropped_lead_frames").get<int64_t>();
       summary->dropped_ease_in_frames = bvh->at("dropped_ease_in_frames").get<int64_t>();
       summary->dropped_teleport_frames = bvh->value("dropped_teleport_frames", int64_t{0});
+      summary->dropped_held_frames = bvh->value("dropped_held_frames", int64_t{0});
     }
   }
   return data;

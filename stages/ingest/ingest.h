@@ -55,6 +55,7 @@ struct IngestSummary {
   int64_t dropped_lead_frames = 0;
   int64_t dropped_ease_in_frames = 0;
   int64_t dropped_teleport_frames = 0;  // of those, a lead-in ended by a joint's teleport (bvh_reader.cpp)
+  int64_t dropped_held_frames = 0;      // of those, one pose repeated exactly before the take moves
 
   std::string BriefReport() const;
 };

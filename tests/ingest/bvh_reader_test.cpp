@@ -237,6 +237,32 @@ TEST(BvhReader, DropFirstFrameAlsoDropsALeadInEndedByATeleport) {
   EXPECT_EQ(ParseBvh(ArmTake(fast), "fast.bvh", options).frame_count(), 23);
 }
 
+// A take that holds its first pose, every channel repeated exactly, before it moves (CMU 08_07: 6 frames,
+// then its hips jump 9 cm in a frame): the hold goes, its last frame with it. A single repeated pair is kept
+// (a file that rounds its channels can repeat one by chance), and so is a take that holds still longer than
+// 0.5 s (a static trial).
+TEST(BvhReader, DropFirstFrameAlsoDropsAHeldLeadIn) {
+  BvhOptions options;
+  options.drop_first_frame = true;
+  std::vector<double> held = {0, 30, 30, 30, 30, 30};
+  for (int k = 0; k < 20; ++k) held.push_back(35 + 0.1 * k);
+  const MarkerData moved = ParseBvh(ArmTake(held), "held.bvh", options);
+  EXPECT_EQ(moved.frame_count(), 20);
+  EXPECT_EQ(moved.metadata.at("bvh").at("dropped_held_frames"), 5);
+  const double first_angle = std::atan2(Position(moved, 0, 2).y() - Position(moved, 0, 1).y(),
+                                        Position(moved, 0, 2).x() - Position(moved, 0, 1).x());
+  EXPECT_NEAR(first_angle * 180 / M_PI, 35, 1e-9);
+  std::vector<double> pair = {0, 30, 30};
+  for (int k = 0; k < 20; ++k) pair.push_back(30.5 + 0.1 * k);
+  EXPECT_EQ(ParseBvh(ArmTake(pair), "pair.bvh", options).frame_count(), 22);
+  const std::vector<double> still(80, 30.0);  // 0.66 s of one pose after frame 0
+  std::vector<double> static_take = {0};
+  static_take.insert(static_take.end(), still.begin(), still.end());
+  const MarkerData kept = ParseBvh(ArmTake(static_take), "still.bvh", options);
+  EXPECT_EQ(kept.frame_count(), 80);
+  EXPECT_EQ(kept.metadata.at("bvh").at("dropped_held_frames"), 0);
+}
+
 // CMU 03_02 holds its T-pose arms for 50 frames while its legs walk, then its hands jump 69 cm in a frame:
 // those frames are dropped. The ingest summary says so.
 TEST(BvhReader, RealCmuLeadInBeforeATeleportIsDropped) {
@@ -246,6 +272,7 @@ TEST(BvhReader, RealCmuLeadInBeforeATeleportIsDropped) {
   IngestSummary summary;
   const MarkerData take = IngestCapture(testing::SharedPath("cmu_bvh/03/03_02.bvh"), options, &summary);
   EXPECT_EQ(summary.dropped_teleport_frames, 50);
+  EXPECT_EQ(summary.dropped_held_frames, 0);
   EXPECT_EQ(summary.dropped_lead_frames, 51);
   EXPECT_NE(summary.BriefReport().find("50 before a joint jumped faster than any body moves"), std::string::npos)
       << summary.BriefReport();
@@ -274,6 +301,15 @@ TEST(BvhReader, RealCmuEaseInsAreDroppedAndCgspeedTakesKept) {
   EXPECT_EQ(cgspeed.frame_count(), 343);
   EXPECT_EQ(eased.metadata.at("bvh").at("dropped_teleport_frames"), 0);
   EXPECT_EQ(cgspeed.metadata.at("bvh").at("dropped_teleport_frames"), 0);
+  EXPECT_EQ(eased.metadata.at("bvh").at("dropped_held_frames"), 0);
+  EXPECT_EQ(cgspeed.metadata.at("bvh").at("dropped_held_frames"), 0);
+  IngestOptions ingest;
+  ingest.drop_first_frame = true;
+  IngestSummary held;
+  (void)IngestCapture(testing::SharedPath("cmu_bvh/08/08_07.bvh"), ingest, &held);
+  EXPECT_EQ(held.dropped_held_frames, 6);
+  EXPECT_EQ(held.dropped_lead_frames, 7);
+  EXPECT_NE(held.BriefReport().find("6 holding one pose before the take moves"), std::string::npos) << held.BriefReport();
 }
 
 // syn-ingest's summary line says what the start lost.

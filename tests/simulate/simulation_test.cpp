@@ -478,7 +478,11 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
   // 2026-11-27 (session 29): the terrain walks replayed on the flat floor (syn-retarget's terrain
   // flattening): 13 up (the CLI's 12 -> 13, 03_01 up), the 8-setting mean 14.12 -> 13.38 (03_01 up in 1 of 8
   // instead of 3, 03_02 in none instead of 4); 03_02-03_04 fall later (1.96, 3.56, 3.67 s).
-  EXPECT_GE(up, 13);
+  // 2026-11-27 (session 30): the ingest drops 08_07's held lead-in (6 repeated frames, then its hips 9 cm in
+  // a frame; bvh_reader.cpp): 08_07 stays up (it fell at 0.63 s, backward, before its first step), 14 up;
+  // over the 8 settings 13-16, mean 13.38 -> 14.88 (08_07 up in 8 of 8). 03_02, whose T-pose lead-in the
+  // ingest drops too, still falls (2.0 s).
+  EXPECT_GE(up, 14);
 }
 
 }  // namespace
