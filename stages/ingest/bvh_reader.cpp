@@ -218,6 +218,26 @@ double RestSize(const std::vector<BvhJoint>& joints) {
   return (high - low).maxCoeff();
 }
 
+// A held lead-in (BvhOptions::drop_first_frame): from `first`, frames repeating one pose exactly, every
+// channel, before the take moves. CMU 08_07 repeats one frame 6 times (0.05 s), then its hips jump 9 cm in
+// 1/120 s, where they move 1.4 cm a frame after. No capture at its own rate repeats a frame bit for bit: the
+// run is a hold, and it goes with its last frame (the take starts where the motion does). It takes at least
+// kHoldRepeats repeats (a pair can repeat by chance where a file rounds its channels), and a take still
+// holding after `lead_frames` (a static trial) is kept whole. Returns the take's first frame.
+constexpr int64_t kHoldRepeats = 3;
+
+int64_t HeldLeadInEnd(const std::vector<double>& values, int channel_count, int64_t frames, int64_t first,
+                      int64_t lead_frames) {
+  const auto repeats_next = [&](int64_t frame) {
+    const double* row = &values[static_cast<size_t>(frame) * static_cast<size_t>(channel_count)];
+    return std::equal(row, row + channel_count, row + channel_count);
+  };
+  const int64_t limit = std::min(frames - 2, first + lead_frames);
+  int64_t end = first;
+  while (end < limit && repeats_next(end)) ++end;
+  return end - first >= kHoldRepeats && end < limit ? end + 1 : first;
+}
+
 }  // namespace
 
 MarkerData ParseBvh(std::string_view text, const std::string& source_name, const BvhOptions& options) {
@@ -340,26 +360,14 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
     return false;
   };
   while (first > 0 && first + 1 < frames_read && joint_left_at_rest(first)) ++first;
-  // And some hold the take's first pose for several frames, every channel repeated exactly, before it
-  // moves: CMU 08_07 repeats one frame 6 times (0.05 s), then its hips jump 9 cm in 1/120 s, where they move
-  // 1.4 cm a frame after. No capture at its own rate repeats a frame bit for bit: the run is a hold, and it
-  // goes with its last frame (the take starts where the motion does).
-  const auto repeats_next = [&](int64_t frame) {
-    const double* row = &values[static_cast<size_t>(frame) * static_cast<size_t>(channel_count)];
-    return std::equal(row, row + channel_count, row + channel_count);
-  };
-  // At most kLeadInSeconds of it: a take that holds still longer (a static trial) is kept whole.
+  // And some hold the take's first pose for several frames before it moves (HeldLeadInEnd).
+  const int64_t lead_frames = std::lround(kLeadInSeconds / frame_time);
   const int64_t before_hold = first;
-  const int64_t hold_limit = std::min(frames_read - 2, first + static_cast<int64_t>(std::lround(kLeadInSeconds / frame_time)));
-  while (first > 0 && first < hold_limit && repeats_next(first)) ++first;
-  // Three repeats or more (four identical frames): a pair can repeat by chance where a file rounds its channels.
-  constexpr int64_t kHoldRepeats = 3;
-  if (first > before_hold) first = first < hold_limit && first - before_hold >= kHoldRepeats ? first + 1 : before_hold;
+  if (first > 0) first = HeldLeadInEnd(values, channel_count, frames_read, first, lead_frames);
   // Others ease in from it over a few frames (the lawrennd, Przestr and papagina copies of CMU: 4-5 frames,
   // 2° to 13-25° RMS from the rest pose), the hands sweeping 18 cm in 17 ms: a start no body makes, and one
   // that led the retargeted G1 of CMU 12_02 into a crouch it then kept the whole take (pelvis 10 cm under
   // its target, P1 median 47 mm; 30 mm without those frames).
-  const int64_t after_hold = first;
   const int64_t after_reference = first;
   if (first > 0) first = EaseInEnd(values, joints, channel_count, frames_read, first, frame_time);
   std::vector<Eigen::Isometry3d> world(joints.size());
@@ -394,7 +402,7 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
   const double rest_size = RestSize(joints);
   if (first > 0 && rest_size > 0) {
     std::vector<double> before(joints.size() * 7), after(joints.size() * 7);
-    const int64_t last = std::min(frames_read - 2, after_ease_in + static_cast<int64_t>(std::lround(kLeadInSeconds / frame_time)));
+    const int64_t last = std::min(frames_read - 2, after_ease_in + lead_frames);
     pose_joints(after_ease_in, before.data());
     for (int64_t k = after_ease_in + 1; k <= last; ++k) {
       pose_joints(k, after.data());
@@ -447,7 +455,7 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
                           {"dropped_lead_frames", first},
                           {"dropped_ease_in_frames", after_ease_in - after_reference},
                           {"dropped_teleport_frames", first - after_ease_in},
-                          {"dropped_held_frames", after_hold - before_hold},
+                          {"dropped_held_frames", after_reference - before_hold},
                           {"rest_height_units", RestHeight(joints)},
                           {"channel_layout", layout},
                           {"convention", daz ? "cmu-daz" : (cmu_hips ? (mixed_arm_order ? "cmu-3dsmax" : "cmu-motionbuilder") : "unknown")}};

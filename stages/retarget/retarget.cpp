@@ -226,19 +226,45 @@ void TurnCalibrationToTake(const LandmarkTrajectories& landmarks, int64_t take_f
   }
 }
 
-// One frame's IK targets: each landmark's motion since the reference frame, turned and scaled, applied to
-// its link's reference pose. Stores them in the motion's landmark_targets; false when none is present.
 // The feet's orientation targets held within the turn their legs can make about the pelvis
-// (foot_yaw_range.h): the pelvis task and, per foot task, its range and its orientation relative to the
-// pelvis link's in the reference stance. Empty where nothing is held.
+// (foot_yaw_range.h): the pelvis task and, per held foot, its task, its range and its orientation relative
+// to the pelvis link's in the reference stance. No feet where nothing is held.
 struct FootYawHolds {
+  struct Foot {
+    int task = -1;
+    YawRange range;
+    Eigen::Quaterniond reference = Eigen::Quaterniond::Identity();
+  };
   int pelvis_task = -1;
-  std::vector<int> foot_tasks;
-  std::vector<YawRange> ranges;
-  std::vector<Eigen::Quaterniond> reference;
+  std::vector<Foot> feet;
   int64_t held_foot_frames = 0;  // foot-frames whose target turned further
 };
 
+// The holds for the tracked feet (`foot_tasks`, per robot-map foot: -1 where none) whose targets have an
+// orientation, when the "pelvis" landmark is tracked as a pose.
+FootYawHolds PlanFootYawHolds(const Model& model, Workspace& workspace, const TrackedTasks& tasks,
+                              const std::vector<int>& foot_tasks, const LandmarkTrajectories& landmarks,
+                              const Eigen::VectorXd& q_ref, const std::vector<Eigen::Isometry3d>& link_reference) {
+  FootYawHolds holds;
+  for (size_t i = 0; i < tasks.size(); ++i) {
+    if (landmarks.names[static_cast<size_t>(tasks.landmark[i])] == "pelvis" && tasks.ik[i].type == TaskType::kPose) {
+      holds.pelvis_task = static_cast<int>(i);
+    }
+  }
+  if (holds.pelvis_task < 0) return holds;
+  const size_t pelvis = static_cast<size_t>(holds.pelvis_task);
+  for (int task : foot_tasks) {
+    if (task < 0 || tasks.ik[static_cast<size_t>(task)].type == TaskType::kPosition) continue;
+    const size_t foot = static_cast<size_t>(task);
+    holds.feet.push_back({task, FootYawRange(model, workspace, q_ref, tasks.ik[pelvis].link, tasks.ik[foot].link),
+                          Eigen::Quaterniond(link_reference[pelvis].linear().transpose() * link_reference[foot].linear())});
+  }
+  return holds;
+}
+
+// One frame's IK targets: each landmark's motion since the reference frame, turned and scaled, applied to
+// its link's reference pose, the feet's turns held (`holds`). Stores them in the motion's landmark_targets;
+// false when none is present.
 bool FrameTargets(const LandmarkTrajectories& landmarks, const TrackedTasks& tasks,
                   const std::vector<LandmarkSample>& reference_samples, const std::vector<Eigen::Isometry3d>& link_reference,
                   const StanceAlignment& alignment, int64_t t, FootYawHolds& holds, std::vector<IkTarget>& targets,
@@ -261,10 +287,10 @@ bool FrameTargets(const LandmarkTrajectories& landmarks, const TrackedTasks& tas
     }
   }
   const IkTarget* pelvis = holds.pelvis_task >= 0 ? &targets[static_cast<size_t>(holds.pelvis_task)] : nullptr;
-  for (size_t foot = 0; pelvis && pelvis->active && pelvis->has_orientation && foot < holds.foot_tasks.size(); ++foot) {
-    IkTarget& target = targets[static_cast<size_t>(holds.foot_tasks[foot])];
-    if (target.active && target.has_orientation &&
-        HoldFootYaw(pelvis->orientation, holds.reference[foot], holds.ranges[foot], target.orientation)) {
+  for (const FootYawHolds::Foot& foot : holds.feet) {
+    IkTarget& target = targets[static_cast<size_t>(foot.task)];
+    if (pelvis->active && pelvis->has_orientation && target.active && target.has_orientation &&
+        HoldFootYaw(pelvis->orientation, foot.reference, foot.range, target.orientation)) {
       ++holds.held_foot_frames;
     }
   }
@@ -875,19 +901,9 @@ MotionData Retarget(const RetargetInputs& inputs, Workspace& workspace, const Re
   // from where the next frames bend it only as fast as the motors allow.
   Eigen::VectorXd q_start = q_posture;
   BendBranchJoints(BranchCoordinates(model), q_start);
-  FootYawHolds holds;
-  if (options.hold_foot_yaw) {
-    for (size_t i = 0; i < tasks.size(); ++i) {
-      if (landmarks.names[static_cast<size_t>(tasks.landmark[i])] == "pelvis" && tasks.ik[i].type == TaskType::kPose) holds.pelvis_task = static_cast<int>(i);
-    }
-    for (int task : holds.pelvis_task >= 0 ? foot_tasks : std::vector<int>{}) {
-      if (task < 0 || tasks.ik[static_cast<size_t>(task)].type == TaskType::kPosition) continue;
-      const size_t pelvis = static_cast<size_t>(holds.pelvis_task);
-      holds.foot_tasks.push_back(task);
-      holds.ranges.push_back(FootYawRange(model, workspace, q_ref, tasks.ik[pelvis].link, tasks.ik[static_cast<size_t>(task)].link));
-      holds.reference.emplace_back(link_reference[pelvis].linear().transpose() * link_reference[static_cast<size_t>(task)].linear());
-    }
-  }
+  FootYawHolds holds = options.hold_foot_yaw
+                           ? PlanFootYawHolds(model, workspace, tasks, foot_tasks, landmarks, q_ref, link_reference)
+                           : FootYawHolds{};
   SolveFrames(landmarks, tasks, reference_samples, link_reference, alignment, q_start, velocity_limit_scale, holds, ik,
               motion, frame_targets, bridged, report);
   if (holds.held_foot_frames > 0) {

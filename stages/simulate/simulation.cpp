@@ -283,31 +283,25 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       saturated += distribution->apply(workspace, controller.massMatrix(), controller.biasForces(), planned_udot, planted.data(),
                                        stance_feet->jacobian(), stance_feet->acceleration(), tau);
       ground_contact->calcForces(workspace, contact_forces, contact_stiffness, contact_damping);
-      summary.stopped_joint_steps += joint_stops->add(q, u, dt, contact_forces, contact_stiffness, contact_damping);
-      // Linearly implicit in the contact forces: (A + h B + h² K) u̇ = τ + f − b − g − h K u, the step
+    } else {
+      contact_forces.setZero();
+      contact_stiffness.setZero();
+      contact_damping.setZero();
+    }
+    // The joints' stops, in both modes: with the driven base of paper mode too, a joint the effort limits let
+    // fall behind would otherwise turn on past its limits.
+    const int engaged = joint_stops->add(q, u, dt, contact_forces, contact_stiffness, contact_damping);
+    summary.stopped_joint_steps += engaged;
+    if (!ground && engaged == 0) {
+      controller.calcAcceleration(tau, udot);  // free of floor and stops (most paper-mode steps): O(n)
+    } else {
+      // Linearly implicit in the contact and stop forces: (A + h B + h² K) u̇ = τ + f − b − g − h K u, the step
       // semi-implicit Euler takes with the forces at its end (u + h u̇, q + h (u + h u̇)) to first order.
       applied = tau + contact_forces - controller.biasForces();
       applied.noalias() -= dt * (contact_stiffness * u);
       implicit_mass = controller.massMatrix() + dt * contact_damping + dt * dt * contact_stiffness;
       implicit_solver.compute(implicit_mass);
       udot = implicit_solver.solve(applied);
-    } else {
-      // The driven base's robot has its joints' stops too. Free of them (most steps), the plain O(n)
-      // acceleration; against one, the same linearly implicit step as on the ground, without the floor.
-      contact_forces.setZero();
-      contact_stiffness.setZero();
-      contact_damping.setZero();
-      const int engaged = joint_stops->add(q, u, dt, contact_forces, contact_stiffness, contact_damping);
-      summary.stopped_joint_steps += engaged;
-      if (engaged == 0) {
-        controller.calcAcceleration(tau, udot);
-      } else {
-        applied = tau + contact_forces - controller.biasForces();
-        applied.noalias() -= dt * (contact_stiffness * u);
-        implicit_mass = controller.massMatrix() + dt * contact_damping + dt * dt * contact_stiffness;
-        implicit_solver.compute(implicit_mass);
-        udot = implicit_solver.solve(applied);
-      }
     }
     summary.saturated_entries += saturated;
     summary.saturated_steps += saturated > 0 ? 1 : 0;

@@ -181,6 +181,12 @@ std::string ArmTake(const std::vector<double>& arm_z) {
   return text;
 }
 
+// An ArmTake's arm angle (degrees, about Z) in frame `frame`, from the arm joint to its end site.
+double ArmAngleDeg(const MarkerData& data, int frame) {
+  const Eigen::Vector3d arm = Position(data, frame, 2) - Position(data, frame, 1);
+  return std::atan2(arm.y(), arm.x()) * 180 / M_PI;
+}
+
 // Some conversions ease in from the rest frame over a few frames (CMU's lawrennd, Przestr and papagina
 // copies): those frames go with it. The arm sweeps 0 -> 59.5° in five frames (220-735 °/s RMS over the six
 // rotation channels), then moves 0.1° a frame: the take starts at 59.5°.
@@ -191,9 +197,7 @@ TEST(BvhReader, DropFirstFrameAlsoDropsTheEaseInFromIt) {
   options.drop_first_frame = true;
   const MarkerData eased = ParseBvh(ArmTake(arm), "eased.bvh", options);
   ASSERT_EQ(eased.frame_count(), 21);
-  const double first_angle = std::atan2(Position(eased, 0, 2).y() - Position(eased, 0, 1).y(),
-                                        Position(eased, 0, 2).x() - Position(eased, 0, 1).x());
-  EXPECT_NEAR(first_angle * 180 / M_PI, 59.5, 1e-9);
+  EXPECT_NEAR(ArmAngleDeg(eased, 0), 59.5, 1e-9);
   EXPECT_EQ(eased.metadata.at("bvh").at("dropped_ease_in_frames"), 4);
   // The calibration stance is still the rest frame.
   ASSERT_EQ(eased.calibration_body_pose.size(), eased.bodies.size() * 7);
@@ -211,8 +215,9 @@ TEST(BvhReader, DropFirstFrameAlsoDropsTheEaseInFromIt) {
 }
 
 // A lead-in that ends in a teleport (bvh_reader.cpp kTeleportSpeed) goes with the calibration frame: the arm
-// holds near 1° for frames 1-5 (not at rest: frames left at zero go by another rule), then turns to 170° in one frame (its end 10 units in 1/120 s, 80 rest-pose sizes
-// per second; a body moves at most about 9), then moves 0.1° a frame. The same jump after the first 0.5 s is
+// holds near 1° for frames 1-5 (not at rest: frames left at zero go by another rule), then turns to 170° in
+// one frame (its end 10 units in 1/120 s, 80 rest-pose sizes per second; a body moves at most about 9), then
+// moves 0.1° a frame. The same jump after the first 0.5 s is
 // kept (the take's own glitch, not its lead-in), and so is a fast but possible step (20° in a frame, 14 sizes/s).
 TEST(BvhReader, DropFirstFrameAlsoDropsALeadInEndedByATeleport) {
   std::vector<double> lead_in = {0, 1, 1.01, 1.02, 1.03, 1.04};
@@ -223,9 +228,7 @@ TEST(BvhReader, DropFirstFrameAlsoDropsALeadInEndedByATeleport) {
   ASSERT_EQ(jumped.frame_count(), 20);
   EXPECT_EQ(jumped.metadata.at("bvh").at("dropped_teleport_frames"), 5);
   EXPECT_EQ(jumped.metadata.at("bvh").at("dropped_lead_frames"), 6);
-  const double first_angle = std::atan2(Position(jumped, 0, 2).y() - Position(jumped, 0, 1).y(),
-                                        Position(jumped, 0, 2).x() - Position(jumped, 0, 1).x());
-  EXPECT_NEAR(first_angle * 180 / M_PI, 170, 1e-9);
+  EXPECT_NEAR(ArmAngleDeg(jumped, 0), 170, 1e-9);
   std::vector<double> late = {0};  // the jump at frame 66, 0.54 s after frame 1
   for (int k = 1; k < 66; ++k) late.push_back(1 + 0.01 * k);
   for (int k = 0; k < 20; ++k) late.push_back(170 + 0.1 * k);
@@ -249,9 +252,7 @@ TEST(BvhReader, DropFirstFrameAlsoDropsAHeldLeadIn) {
   const MarkerData moved = ParseBvh(ArmTake(held), "held.bvh", options);
   EXPECT_EQ(moved.frame_count(), 20);
   EXPECT_EQ(moved.metadata.at("bvh").at("dropped_held_frames"), 5);
-  const double first_angle = std::atan2(Position(moved, 0, 2).y() - Position(moved, 0, 1).y(),
-                                        Position(moved, 0, 2).x() - Position(moved, 0, 1).x());
-  EXPECT_NEAR(first_angle * 180 / M_PI, 35, 1e-9);
+  EXPECT_NEAR(ArmAngleDeg(moved, 0), 35, 1e-9);
   std::vector<double> pair = {0, 30, 30};
   for (int k = 0; k < 20; ++k) pair.push_back(30.5 + 0.1 * k);
   EXPECT_EQ(ParseBvh(ArmTake(pair), "pair.bvh", options).frame_count(), 22);

@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <random>
@@ -16,8 +15,8 @@
 #include "common/model.h"
 #include "common/robot_map.h"
 #include "stages/simulate/fixed_step_integrator.h"
-#include "stages/ingest/text_fields.h"
 #include "stages/simulate/simulation.h"
+#include "tests/support/cmu_index.h"
 #include "tests/support/demo_motion.h"
 #include "tests/support/independent_fk.h"
 #include "tests/support/shared_data.h"
@@ -406,25 +405,19 @@ TEST_F(PaperMode, CmuDancesStayInsideTheirJointLimits) {
   GTEST_SKIP() << "the real-data paper-mode sweep runs in the Release test run, not under the sanitizers";
 #endif
   SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
-  std::ifstream index(testing::SharedPath("cmu_bvh/index.csv"));
-  std::string line;
-  std::getline(index, line);
-  int dances = 0;
-  while (std::getline(index, line)) {
-    const std::vector<std::string> cells = SplitQuotedCsv(line);
-    if (cells.size() < 5 || cells[4] != "dance") continue;
-    ++dances;
-    const MotionData dance = testing::CmuBvhOnG1(testing::SharedPath("cmu_bvh/" + cells[2]));
+  const std::vector<testing::CmuTrial> dances = testing::CmuTrials({"dance"});
+  for (const testing::CmuTrial& trial : dances) {
+    const MotionData dance = testing::CmuBvhOnG1(testing::SharedPath("cmu_bvh/" + trial.file));
     try {
-      const SimulationResult result = Simulate(dance, cells[1], model, map, SimulateOptions{});
-      std::printf("%s paper mode: joint RMS to the kinematic motion %.2f deg; %s\n", cells[1].c_str(),
+      const SimulationResult result = Simulate(dance, trial.name, model, map, SimulateOptions{});
+      std::printf("%s paper mode: joint RMS to the kinematic motion %.2f deg; %s\n", trial.name.c_str(),
                   result.summary.joint_rms_deg, LimitExcess(model, result.motion).c_str());
-      EXPECT_LE(WorstLimitExcess(model, result.motion), kStopTolerance) << cells[1] << ": a joint past its URDF limit";
+      EXPECT_LE(WorstLimitExcess(model, result.motion), kStopTolerance) << trial.name << ": a joint past its URDF limit";
     } catch (const DataError& error) {
-      ADD_FAILURE() << cells[1] << ": " << error.what();
+      ADD_FAILURE() << trial.name << ": " << error.what();
     }
   }
-  EXPECT_EQ(dances, 11);
+  EXPECT_EQ(dances.size(), 11u);
 }
 
 TEST_F(GroundMode, SomeCmuWalksStayUp) {
@@ -432,17 +425,12 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
   GTEST_SKIP() << "the real-data ground-mode sweep runs in the Release test run, not under the sanitizers";
 #endif
   SYN_REQUIRE_SHARED("cmu_bvh/index.csv");
-  std::ifstream index(testing::SharedPath("cmu_bvh/index.csv"));
-  std::string line;
-  std::getline(index, line);
-  int walks = 0, up = 0;
-  while (std::getline(index, line)) {
-    const std::vector<std::string> cells = SplitQuotedCsv(line);
-    if (cells.size() < 5 || cells[4] != "walk") continue;
-    ++walks;
-    const MotionData walk = testing::CmuBvhOnG1(testing::SharedPath("cmu_bvh/" + cells[2]));
+  const std::vector<testing::CmuTrial> walks = testing::CmuTrials({"walk"});
+  int up = 0;
+  for (const testing::CmuTrial& trial : walks) {
+    const MotionData walk = testing::CmuBvhOnG1(testing::SharedPath("cmu_bvh/" + trial.file));
     try {
-      const SimulationResult result = Simulate(walk, cells[1], model, map, options);
+      const SimulationResult result = Simulate(walk, trial.name, model, map, options);
       ++up;
       // Held soles more than 3° off flat, on an edge or a corner (2026-11-28: 53-89 % of the held
       // foot-steps of the 8 walks then up; with the planned forces on sole points within 2 cm and the
@@ -451,22 +439,22 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
       const double tilted = TiltedStanceFraction(map, walk, result.motion);
       const double counted = static_cast<double>(result.summary.tilted_foot_steps) / static_cast<double>(result.summary.held_foot_steps);
       std::printf("%s: stays up (lowest pelvis %.2f of the reference's; %s; held soles >3 deg off flat in %.0f %% of "
-                  "foot-steps, %.0f %% of recorded frames)\n", cells[1].c_str(), result.summary.lowest_pelvis_ratio,
+                  "foot-steps, %.0f %% of recorded frames)\n", trial.name.c_str(), result.summary.lowest_pelvis_ratio,
                   LimitExcess(model, result.motion).c_str(), 100 * counted, 100 * tilted);
-      EXPECT_NEAR(counted, tilted, 0.1) << cells[1] << ": the stage's count of tilted held soles against FK of its record";
-      EXPECT_LE(WorstLimitExcess(model, result.motion), kStopTolerance) << cells[1] << ": a joint past its URDF limit";
+      EXPECT_NEAR(counted, tilted, 0.1) << trial.name << ": the stage's count of tilted held soles against FK of its record";
+      EXPECT_LE(WorstLimitExcess(model, result.motion), kStopTolerance) << trial.name << ": a joint past its URDF limit";
       // Issue 18: soles never more than 1 cm into the floor; and no contact chatter (with the contact's
       // dissipation at 10 s/m the soles' force switched between 0 and 20-43 kN every step, 13 mm deep).
-      EXPECT_LE(result.summary.deepest_penetration_mm, 10.0) << cells[1];
-      EXPECT_LE(result.summary.peak_vertical_force_n, kPeakForceInWeights * model.totalMass() * model.gravity()) << cells[1];
+      EXPECT_LE(result.summary.deepest_penetration_mm, 10.0) << trial.name;
+      EXPECT_LE(result.summary.peak_vertical_force_n, kPeakForceInWeights * model.totalMass() * model.gravity()) << trial.name;
       EXPECT_LE(WorstContactForceMismatch(model, result.motion), 0.01)
-          << cells[1] << ": the reported contact forces are those the base's inverse dynamics needs (N)";
+          << trial.name << ": the reported contact forces are those the base's inverse dynamics needs (N)";
     } catch (const DataError& error) {
-      std::printf("%s: %s\n", cells[1].c_str(), error.what());
+      std::printf("%s: %s\n", trial.name.c_str(), error.what());
     }
   }
-  std::printf("ground mode: %d of %d CMU walks stay up\n", up, walks);
-  EXPECT_EQ(walks, 21);
+  std::printf("ground mode: %d of %zu CMU walks stay up\n", up, walks.size());
+  EXPECT_EQ(walks.size(), 21u);
   // 2026-11-28: 14 up (8 before the planned forces on sole points within 2 cm and the torques that keep
   // the held feet); over nearby balance settings 11-14 (balance_controller.h).
   // 2026-11-27 (session 27): 15 up, since the BVH reader drops the frame after the reference frame where a
