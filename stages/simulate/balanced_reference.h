@@ -40,9 +40,11 @@ namespace syn {
 using Vector6d = Eigen::Matrix<double, 6, 1>;  // (angular, linear), or (moment, force)
 
 struct BalanceOptions {
-  // m: how far inside the support polygon the planned zero-moment point stays (room for the
-  // controller's feedback; G1's sole is 6 cm wide).
-  double margin = 0.01;
+  // m: how far each support-polygon vertex moves toward the polygon's centroid before the planned
+  // zero-moment point is kept inside it: room for the controller's capture-point feedback, which has
+  // nowhere to put its zero-moment point once the plan's sits on a sole's edge (syn-simulate
+  // --support-margin; see SimulateOptions for the measurements behind the default).
+  double margin = 0.025;
   // s: σ of the Gaussian the reference's base wrench is smoothed with before its zero-moment point is
   // taken (a step lasts about 0.5 s).
   double smoothing = 0.04;

@@ -66,6 +66,10 @@ int main(int argc, char** argv) {
                  "Ground mode: a swinging foot is carried up to this much (m) higher than the source's, most at "
                  "mid-swing, so that it does not scuff the floor and land short (0: the source's height)")
       ->capture_default_str();
+  app.add_option("--support-margin", options.support_margin,
+                 "Ground mode: how far (m) inside the feet the balance plan keeps its zero-moment point (each "
+                 "support-polygon vertex moved this far toward its centroid), room for the capture-point feedback")
+      ->capture_default_str();
   bool no_joint_limits = false;
   app.add_flag("--no-joint-limits", no_joint_limits,
                "Do not hold joints inside the URDF's position limits (for diagnosis: without them a straightening "

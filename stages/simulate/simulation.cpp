@@ -103,6 +103,9 @@ bool SimulateOptions::IsValid(std::string* error) const {
   if (!(balance_gain >= 0 && balance_gain <= 1e3)) return fail("--balance-gain must be in [0, 1000] 1/s, got " + std::to_string(balance_gain));
   if (!(step_adjustment >= 0 && step_adjustment <= 1)) return fail("--step-adjustment must be in [0, 1] m, got " + std::to_string(step_adjustment));
   if (!(swing_lift >= 0 && swing_lift <= 0.2)) return fail("--swing-lift must be in [0, 0.2] m, got " + std::to_string(swing_lift));
+  if (!(support_margin >= 0 && support_margin <= 0.1)) {
+    return fail("--support-margin must be in [0, 0.1] m, got " + std::to_string(support_margin));
+  }
   if (contact == ContactMode::kGround && integrator != Integrator::kSemiImplicitEuler) {
     return fail("--contact ground needs --integrator euler (the friction anchors move once per step)");
   }
@@ -123,7 +126,7 @@ nlohmann::json SimulateOptions::ToJson() const {
           {"integrator", std::string(IntegratorName(integrator))},
           {"no_balance", !balance},
           {"balance_gain", balance_gain}, {"step_adjustment", step_adjustment},
-          {"swing_lift", swing_lift}};
+          {"swing_lift", swing_lift}, {"support_margin", support_margin}};
 }
 
 std::string SimulateSummary::BriefReport() const {
@@ -201,7 +204,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   BalanceShift balance;
   std::optional<BalanceController> balance_controller;
   if (ground && options.balance) {
-    balance = PlanBalanceShift(input, model, map, BalanceOptions{});
+    balance = PlanBalanceShift(input, model, map, BalanceOptions{.margin = options.support_margin});
     references.shiftAboveLegs(balance, tasks);
     BalanceControllerOptions balance_options;
     balance_options.capture_gain = options.balance_gain;

@@ -48,7 +48,7 @@ TEST(SimulateCli, PrintParametersGivesEveryFlag) {
   EXPECT_EQ(result.output,
             "{\"balance_gain\":2.0,\"contact\":\"none\",\"damping\":0.001,\"floating_base\":\"auto\",\"independence_cutoff\":0.7,"
             "\"integrator\":\"euler\",\"kp\":300.0,\"kv\":25.0,\"limit_frequency\":100.0,\"no_balance\":false,\"no_effort_limits\":true,"
-            "\"no_joint_limits\":false,\"rate\":1000.0,\"step_adjustment\":0.3,\"swing_lift\":0.04,\"targets\":\"kinematic\"}\n");
+            "\"no_joint_limits\":false,\"rate\":1000.0,\"step_adjustment\":0.3,\"support_margin\":0.025,\"swing_lift\":0.04,\"targets\":\"kinematic\"}\n");
 }
 
 }  // namespace
