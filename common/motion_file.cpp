@@ -1,5 +1,7 @@
 #include "common/motion_file.h"
 
+#include <algorithm>
+
 #include "common/error.h"
 #include "common/model.h"
 
@@ -32,6 +34,17 @@ void WriteMotionData(IntermediateWriter& writer, const MotionData& motion) {
   writer.writeAttribute("", "model_name", motion.model_name);
   writer.writeAttribute("", "model_sha256", motion.model_sha256);
   writer.writeAttribute("", "total_mass", motion.total_mass);
+}
+
+void KeepFirstFrames(MotionData& motion, int64_t frames) {
+  const size_t total = static_cast<size_t>(motion.frames()), kept = static_cast<size_t>(std::clamp<int64_t>(frames, 0, motion.frames()));
+  if (total == 0) return;
+  // Each array's entries per frame from its size: the optional ones may be empty.
+  const auto keep = [&](auto& values) { values.resize(values.size() / total * kept); };
+  keep(motion.q), keep(motion.u), keep(motion.udot), keep(motion.tau);
+  keep(motion.landmark_targets), keep(motion.landmark_error);
+  keep(motion.contact), keep(motion.contact_force), keep(motion.unexplained_wrench);
+  motion.time_s.resize(kept);
 }
 
 MotionData ReadMotionFile(const std::string& path) {

@@ -54,6 +54,9 @@ struct MotionData {
 
 void WriteMotionData(IntermediateWriter& writer, const MotionData& motion);
 
+// Drops every frame from `frames` on, from each per-frame array the motion has (its names and model kept).
+void KeepFirstFrames(MotionData& motion, int64_t frames);
+
 // Reads a motion file, checking schema, version and array shapes.
 [[nodiscard]] MotionData ReadMotionFile(const std::string& path);
 

@@ -2,6 +2,7 @@
 // dynamic mapping, an operational-space controller tracking the retargeted motion on the robot simulated
 // in Simbody.
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 #include <map>
 
@@ -70,6 +71,10 @@ int main(int argc, char** argv) {
                  "Ground mode: how far (m) inside the feet the balance plan keeps its zero-moment point (each "
                  "support-polygon vertex moved this far toward its centroid), room for the capture-point feedback")
       ->capture_default_str();
+  std::string fall_record;
+  app.add_option("--fall-record", fall_record,
+                 "Ground mode: when the robot falls, write the frames simulated before the fall to this motion file "
+                 "(for looking at how it fell; the output is still not written, and the stage still exits 1)");
   bool no_joint_limits = false;
   app.add_flag("--no-joint-limits", no_joint_limits,
                "Do not hold joints inside the URDF's position limits (for diagnosis: without them a straightening "
@@ -99,14 +104,16 @@ int main(int argc, char** argv) {
   };
   return syn::RunTool(app, argc, argv, parameters, [&] {
     syn::RequireValid(options);
+    if (!fall_record.empty() && options.contact != syn::ContactMode::kGround) {
+      throw syn::UsageError("--fall-record needs --contact ground (only a robot on the ground can fall)");
+    }
+    if (!fall_record.empty() && std::filesystem::path(fall_record) == std::filesystem::path(common.output)) {
+      throw syn::UsageError("--fall-record must name another file than -o (a fall leaves no output)");
+    }
     const syn::Model model = syn::LoadModel(model_path, floating_base);
     syn::PrintWarnings("syn-simulate", model.warnings());
     const syn::RobotMap map = syn::LoadRobotMap(map_path);
     const syn::MotionData motion = syn::ReadMotionFile(input);
-    const auto start = std::chrono::steady_clock::now();
-    const syn::SimulationResult result = syn::Simulate(motion, input, model, map, options);
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
     syn::Provenance provenance;
     provenance.schema = syn::kMotionSchema;
     provenance.schema_version = syn::kMotionSchemaVersion;
@@ -114,6 +121,22 @@ int main(int argc, char** argv) {
     provenance.parameters = parameters();
     provenance.inputs = nlohmann::json::array(
         {syn::DescribeInput(input), syn::DescribeInput(model_path), syn::DescribeInput(map_path)});
+    syn::SimulationResult result;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      result = syn::Simulate(motion, input, model, map, options);
+    } catch (const syn::FallError& fall) {
+      if (!fall_record.empty()) {
+        syn::IntermediateWriter record(fall_record, provenance);
+        syn::WriteMotionData(record, fall.beforeFall());
+        record.commit();
+        std::cerr << "syn-simulate: the " << fall.beforeFall().frames() << " frames before the fall written to " << fall_record
+                  << "\n";
+      }
+      throw;
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
     syn::IntermediateWriter writer(common.output, provenance);
     syn::WriteMotionData(writer, result.motion);
     writer.commit();

@@ -380,7 +380,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
           why.precision(3);
           why << "fell at t = " << input.time_s[static_cast<size_t>(t)] + (step + 1) * dt << " s: the pelvis is " << q[6]
               << " m high, under " << kFallenPelvisRatio * 100 << " % of the reference's " << reference << " m";
-          throw DataError(Location::InFile(input_name), why.str());
+          KeepFirstFrames(out, t + 1);
+          throw FallError(Location::InFile(input_name), why.str(), std::move(out));
         }
       }
     }

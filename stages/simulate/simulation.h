@@ -8,10 +8,13 @@
 // 1/rate, and the run is deterministic. The controller runs once per step and holds its torques over it.
 #pragma once
 
+#include <memory>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
+#include "common/error.h"
 #include "common/model.h"
 #include "common/motion_file.h"
 #include "common/robot_map.h"
@@ -100,9 +103,21 @@ struct SimulationResult {
   SimulateSummary summary;
 };
 
+// Ground mode's fall: the stage's error, carrying the frames recorded before it (the input's frames up to
+// the last one before the fall), which `--fall-record` writes so that a user can look at how it fell.
+class FallError : public DataError {
+ public:
+  FallError(Location where, const std::string& message, MotionData before_fall)
+      : DataError(std::move(where), message), before_fall_(std::make_shared<const MotionData>(std::move(before_fall))) {}
+  const MotionData& beforeFall() const { return *before_fall_; }
+
+ private:
+  std::shared_ptr<const MotionData> before_fall_;  // shared: an exception is copied
+};
+
 // Throws DataError (naming `motion_name`, the file it came from) when the motion does not fit the model,
-// has no frames or the simulation diverges, and in ground mode when the robot falls ("fell at t = … s":
-// the pelvis under 60 % of the reference's height at that time).
+// has no frames or the simulation diverges, and in ground mode FallError when the robot falls ("fell at
+// t = … s": the pelvis under 60 % of the reference's height at that time).
 [[nodiscard]] SimulationResult Simulate(const MotionData& motion, const std::string& motion_name, const Model& model,
                                         const RobotMap& map, const SimulateOptions& options);
 

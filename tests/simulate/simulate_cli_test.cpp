@@ -7,9 +7,14 @@
 
 #include <gtest/gtest.h>
 
+#include "common/intermediate_file.h"
+#include "common/model.h"
+#include "common/motion_file.h"
+#include "common/robot_map.h"
 #include "tests/support/demo_motion.h"
 #include "tests/support/run_command.h"
 #include "tests/support/shared_data.h"
+#include "tests/support/synthetic_motions.h"
 
 namespace syn::testing {
 namespace {
@@ -38,6 +43,50 @@ TEST(SimulateCli, NotAMotionFileFailsWithoutOutput) {
   EXPECT_NE(result.output.find("bad.motion.h5"), std::string::npos) << result.output;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     EXPECT_EQ(entry.path().filename().string().find("out.motion.h5"), std::string::npos) << entry.path();
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SimulateCli, FallRecordNeedsTheGroundAndItsOwnFile) {
+  const CommandResult no_ground = RunCommand(Tool() + " in.motion.h5 -o out.motion.h5 --fall-record fall.motion.h5");
+  EXPECT_EQ(no_ground.exit_code, 2) << no_ground.output;
+  EXPECT_NE(no_ground.output.find("--fall-record needs --contact ground"), std::string::npos) << no_ground.output;
+  const CommandResult same = RunCommand(Tool() + " in.motion.h5 -o out.motion.h5 --contact ground --fall-record out.motion.h5");
+  EXPECT_EQ(same.exit_code, 2) << same.output;
+  EXPECT_NE(same.output.find("--fall-record must name another file than -o"), std::string::npos) << same.output;
+}
+
+// A robot shoved off its feet: exit 1 with the fall's time, no output, and with --fall-record the frames
+// before the fall in a motion file the readers accept.
+TEST(SimulateCli, AFallLeavesNoOutputButItsRecord) {
+  const Model model = Model::Load(SourcePath(kG1Urdf));
+  const RobotMap map = LoadRobotMap(SourcePath(kG1Map));
+  MotionData motion = StandingMotion(model, map, 2.0);
+  motion.u[4] = 3.0;  // the base starts moving sideways at 3 m/s
+  const std::string dir = std::filesystem::temp_directory_path() / ("syn_simulate_fall_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  {
+    Provenance provenance;
+    provenance.schema = kMotionSchema;
+    provenance.schema_version = kMotionSchemaVersion;
+    provenance.producer = "simulate_cli_test";
+    IntermediateWriter writer(dir + "/shoved.motion.h5", provenance);
+    WriteMotionData(writer, motion);
+    writer.commit();
+  }
+  const CommandResult result = RunCommand(Tool() + " " + dir + "/shoved.motion.h5 -o " + dir + "/out.motion.h5 --contact ground --fall-record " +
+                                          dir + "/fall.motion.h5");
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_NE(result.output.find("fell at t = "), std::string::npos) << result.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out.motion.h5"));
+  const MotionData record = ReadMotionFile(dir + "/fall.motion.h5");
+  EXPECT_GT(record.frames(), 1);
+  EXPECT_LT(record.frames(), motion.frames());
+  EXPECT_NE(result.output.find("the " + std::to_string(record.frames()) + " frames before the fall written to"), std::string::npos)
+      << result.output;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    EXPECT_TRUE(name == "shoved.motion.h5" || name == "fall.motion.h5") << "left behind: " << name;
   }
   std::filesystem::remove_all(dir);
 }

@@ -213,15 +213,36 @@ TEST_F(GroundMode, ForcesStayNearTheWeightWhileTheArmsMove) {
 }
 
 // A standing robot shoved sideways at 3 m/s cannot catch itself without stepping: its capture point is
-// 0.8 m outside its feet. It falls (pelvis under 60 % of the reference's height) and the stage stops.
+// 0.8 m outside its feet. It falls (pelvis under 60 % of the reference's height) and the stage stops. The
+// error carries the frames recorded before the fall (what --fall-record writes): every array cut at the
+// same frame, ending before the fall's time, the pelvis already lower and moving sideways.
 TEST_F(GroundMode, ReportsAFall) {
   MotionData motion = testing::StandingMotion(model, map, 2.0);
   motion.u[4] = 3.0;  // the first frame's base velocity along y, where the simulation starts
   try {
     (void)Simulate(motion, "sunk", model, map, options);
     ADD_FAILURE() << "no fall reported";
-  } catch (const DataError& error) {
-    EXPECT_NE(std::string(error.what()).find("fell at t = "), std::string::npos) << error.what();
+  } catch (const FallError& error) {
+    const std::string what = error.what();
+    ASSERT_NE(what.find("fell at t = "), std::string::npos) << what;
+    const double fell_at = std::stod(what.substr(what.find("fell at t = ") + 12));
+    const MotionData& record = error.beforeFall();
+    const int64_t frames = record.frames(), nq = model.nq(), nu = model.nu();
+    ASSERT_GT(frames, 1);
+    EXPECT_LT(frames, motion.frames());
+    EXPECT_LE(record.time_s.back(), fell_at);
+    EXPECT_GT(record.time_s.back(), fell_at - 0.1) << "the record ends at the last frame before the fall";
+    EXPECT_EQ(record.q.size(), static_cast<size_t>(frames * nq));
+    EXPECT_EQ(record.u.size(), static_cast<size_t>(frames * nu));
+    EXPECT_EQ(record.tau.size(), static_cast<size_t>(frames * nu));
+    EXPECT_EQ(record.contact.size(), static_cast<size_t>(frames) * map.feet.size());
+    EXPECT_EQ(record.contact_force.size(), static_cast<size_t>(frames) * map.feet.size() * 3);
+    EXPECT_EQ(record.unexplained_wrench.size(), static_cast<size_t>(frames * 6));
+    EXPECT_EQ(record.landmark_error.size(), static_cast<size_t>(frames) * record.landmark_names.size() * 2);
+    // The free base's position is q[4..6]: pushed along y, falling.
+    const size_t last = static_cast<size_t>((frames - 1) * nq);
+    EXPECT_GT(record.q[last + 5] - record.q[5], 0.1);
+    EXPECT_LT(record.q[last + 6], record.q[6] - 0.05);
   }
 }
 
