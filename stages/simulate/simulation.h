@@ -18,6 +18,7 @@
 #include "common/model.h"
 #include "common/motion_file.h"
 #include "common/robot_map.h"
+#include "stages/simulate/balanced_reference.h"
 #include "stages/simulate/fixed_step_integrator.h"
 #include "stages/simulate/operational_space_controller.h"
 #include "stages/simulate/task_references.h"
@@ -55,7 +56,7 @@ struct SimulateOptions {
   // 15-25 cm sideways in each 0.7 s stance). CMU walks up of 21 onto G1 over the 8 settings of
   // balance_controller.h (mean; the defaults' count in brackets): margin 0.005: (13); 0.01: 14.88 (14);
   // 0.015: (14); 0.02: 15.25 (15); 0.025: 16.25 (17); 0.03: 16.12 (15); 0.04: 16.50 (16); 0.05: 15.75 (16).
-  double support_margin = 0.025;
+  double support_margin = BalanceOptions{}.margin;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;

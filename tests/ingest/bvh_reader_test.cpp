@@ -187,12 +187,17 @@ double ArmAngleDeg(const MarkerData& data, int frame) {
   return std::atan2(arm.y(), arm.x()) * 180 / M_PI;
 }
 
+// `lead` (arm angles, deg, frame 0 first), then the take proper: 20 frames from `from`, 0.1° a frame.
+std::vector<double> ThenSlowly(std::vector<double> lead, double from) {
+  for (int k = 0; k < 20; ++k) lead.push_back(from + 0.1 * k);
+  return lead;
+}
+
 // Some conversions ease in from the rest frame over a few frames (CMU's lawrennd, Przestr and papagina
 // copies): those frames go with it. The arm sweeps 0 -> 59.5° in five frames (220-735 °/s RMS over the six
 // rotation channels), then moves 0.1° a frame: the take starts at 59.5°.
 TEST(BvhReader, DropFirstFrameAlsoDropsTheEaseInFromIt) {
-  std::vector<double> arm = {0, 15, 30, 45, 55, 59.5};
-  for (int k = 0; k < 20; ++k) arm.push_back(60 + 0.1 * k);
+  const std::vector<double> arm = ThenSlowly({0, 15, 30, 45, 55, 59.5}, 60);
   BvhOptions options;
   options.drop_first_frame = true;
   const MarkerData eased = ParseBvh(ArmTake(arm), "eased.bvh", options);
@@ -204,11 +209,9 @@ TEST(BvhReader, DropFirstFrameAlsoDropsTheEaseInFromIt) {
   EXPECT_NEAR(eased.calibration_body_pose[2 * 7 + 1], 0.0, 1e-12);  // the arm's end straight along x
   // A take that starts at once keeps its frame 1 (cgspeed's T-pose, then the take), and so does one whose
   // fast start is a single step.
-  std::vector<double> at_once = {0, 60};
-  for (int k = 0; k < 20; ++k) at_once.push_back(60 + 0.1 * k);
+  const std::vector<double> at_once = ThenSlowly({0, 60}, 60);
   EXPECT_EQ(ParseBvh(ArmTake(at_once), "at_once.bvh", options).frame_count(), 21);
-  std::vector<double> one_fast_step = {0, 40, 60};
-  for (int k = 0; k < 20; ++k) one_fast_step.push_back(60 + 0.1 * k);
+  const std::vector<double> one_fast_step = ThenSlowly({0, 40, 60}, 60);
   EXPECT_EQ(ParseBvh(ArmTake(one_fast_step), "one_step.bvh", options).frame_count(), 22);
   // Without drop_first_frame nothing is dropped.
   EXPECT_EQ(ParseBvh(ArmTake(arm), "eased.bvh", {}).frame_count(), 26);
@@ -220,8 +223,7 @@ TEST(BvhReader, DropFirstFrameAlsoDropsTheEaseInFromIt) {
 // moves 0.1° a frame. The same jump after the first 0.5 s is
 // kept (the take's own glitch, not its lead-in), and so is a fast but possible step (20° in a frame, 14 sizes/s).
 TEST(BvhReader, DropFirstFrameAlsoDropsALeadInEndedByATeleport) {
-  std::vector<double> lead_in = {0, 1, 1.01, 1.02, 1.03, 1.04};
-  for (int k = 0; k < 20; ++k) lead_in.push_back(170 + 0.1 * k);
+  const std::vector<double> lead_in = ThenSlowly({0, 1, 1.01, 1.02, 1.03, 1.04}, 170);
   BvhOptions options;
   options.drop_first_frame = true;
   const MarkerData jumped = ParseBvh(ArmTake(lead_in), "lead_in.bvh", options);
@@ -231,12 +233,10 @@ TEST(BvhReader, DropFirstFrameAlsoDropsALeadInEndedByATeleport) {
   EXPECT_NEAR(ArmAngleDeg(jumped, 0), 170, 1e-9);
   std::vector<double> late = {0};  // the jump at frame 66, 0.54 s after frame 1
   for (int k = 1; k < 66; ++k) late.push_back(1 + 0.01 * k);
-  for (int k = 0; k < 20; ++k) late.push_back(170 + 0.1 * k);
-  const MarkerData kept = ParseBvh(ArmTake(late), "late.bvh", options);
+  const MarkerData kept = ParseBvh(ArmTake(ThenSlowly(late, 170)), "late.bvh", options);
   EXPECT_EQ(kept.frame_count(), 85);
   EXPECT_EQ(kept.metadata.at("bvh").at("dropped_teleport_frames"), 0);
-  std::vector<double> fast = {0, 1, 1.01, 21};
-  for (int k = 0; k < 20; ++k) fast.push_back(21 + 0.1 * k);
+  const std::vector<double> fast = ThenSlowly({0, 1, 1.01, 21}, 21);
   EXPECT_EQ(ParseBvh(ArmTake(fast), "fast.bvh", options).frame_count(), 23);
 }
 
@@ -247,14 +247,12 @@ TEST(BvhReader, DropFirstFrameAlsoDropsALeadInEndedByATeleport) {
 TEST(BvhReader, DropFirstFrameAlsoDropsAHeldLeadIn) {
   BvhOptions options;
   options.drop_first_frame = true;
-  std::vector<double> held = {0, 30, 30, 30, 30, 30};
-  for (int k = 0; k < 20; ++k) held.push_back(35 + 0.1 * k);
+  const std::vector<double> held = ThenSlowly({0, 30, 30, 30, 30, 30}, 35);
   const MarkerData moved = ParseBvh(ArmTake(held), "held.bvh", options);
   EXPECT_EQ(moved.frame_count(), 20);
   EXPECT_EQ(moved.metadata.at("bvh").at("dropped_held_frames"), 5);
   EXPECT_NEAR(ArmAngleDeg(moved, 0), 35, 1e-9);
-  std::vector<double> pair = {0, 30, 30};
-  for (int k = 0; k < 20; ++k) pair.push_back(30.5 + 0.1 * k);
+  const std::vector<double> pair = ThenSlowly({0, 30, 30}, 30.5);
   EXPECT_EQ(ParseBvh(ArmTake(pair), "pair.bvh", options).frame_count(), 22);
   const std::vector<double> still(80, 30.0);  // 0.66 s of one pose after frame 0
   std::vector<double> static_take = {0};

@@ -66,11 +66,7 @@ TEST(SimulateCli, AFallLeavesNoOutputButItsRecord) {
   const std::string dir = std::filesystem::temp_directory_path() / ("syn_simulate_fall_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   {
-    Provenance provenance;
-    provenance.schema = kMotionSchema;
-    provenance.schema_version = kMotionSchemaVersion;
-    provenance.producer = "simulate_cli_test";
-    IntermediateWriter writer(dir + "/shoved.motion.h5", provenance);
+    IntermediateWriter writer(dir + "/shoved.motion.h5", {kMotionSchema, kMotionSchemaVersion, "test", {}, nlohmann::json::array()});
     WriteMotionData(writer, motion);
     writer.commit();
   }
