@@ -96,6 +96,7 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
   for (size_t f = 0; f < foot_links_.size() && !captured; ++f) {
     if (!standing_[f]) support_.insert(support_.end(), touching_[f].begin(), touching_[f].end());
   }
+  state_ = BalanceSample{};
   if (support_.empty() || base_link_ < 0 || translation_velocities_.empty()) {
     controller.clearCentreOfMassLevel();
     return;
@@ -104,7 +105,12 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
 
   // Horizontal: the capture point back to the plan's through a zmp the soles can push.
   const Eigen::Vector2d capture_error = (com.head<2>() - com_plan) + (velocity.head<2>() - velocity_plan) / omega;
-  const Eigen::Vector2d commanded_zmp = ClosestInPolygon(zmp_plan + (1 + options_.capture_gain / omega) * capture_error, hull_);
+  const Eigen::Vector2d wanted_zmp = zmp_plan + (1 + options_.capture_gain / omega) * capture_error;
+  const Eigen::Vector2d commanded_zmp = ClosestInPolygon(wanted_zmp, hull_);
+  state_.balancing = true;
+  state_.capture_error = capture_error.norm();
+  state_.zmp_shortfall = (wanted_zmp - commanded_zmp).norm();
+  state_.standing_both = std::count(standing_.begin(), standing_.end(), true) >= 2;
   const Eigen::Vector2d horizontal =
       acceleration_plan + omega * omega * ((com.head<2>() - com_plan) - (commanded_zmp - zmp_plan));
   // Vertical: a PD on the plan's centre-of-mass height.
@@ -173,6 +179,8 @@ void BalanceController::step(double now, size_t frame, const int64_t* planted, c
     const double landing = plan_.time[static_cast<size_t>(touchdown)], left = landing - now;
     if (left <= 0) continue;
     Eigen::Vector2d shift = PredictedCaptureError(capture_error, zmp_plan, omega, left);
+    state_.stepping = true;
+    state_.landing_needed = std::max(state_.landing_needed, shift.norm());
     if (shift.norm() > options_.max_step_shift) shift *= options_.max_step_shift / shift.norm();
     landing_shift_[f] = shift;
     const double duration = std::max(landing - swing_start_[f], 1e-6);

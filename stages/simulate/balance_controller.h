@@ -44,6 +44,7 @@
 #include "common/model.h"
 #include "common/robot_map.h"
 #include "stages/simulate/balanced_reference.h"
+#include "stages/simulate/fall_diagnosis.h"
 #include "stages/simulate/operational_space_controller.h"
 #include "stages/simulate/task_references.h"
 
@@ -83,6 +84,9 @@ class BalanceController {
   void apply(Workspace& workspace, int64_t frame, double fraction, const int64_t* planted,
              std::vector<TaskReference>& references, OperationalSpaceController& controller);
 
+  // After apply: what it saw (the balance fields of a BalanceSample; time and the rest are the caller's).
+  const BalanceSample& state() const { return state_; }
+
  private:
   const BalanceShift& plan_;
   BalanceControllerOptions options_;
@@ -108,6 +112,7 @@ class BalanceController {
   std::vector<std::vector<Eigen::Vector2d>> touching_;       // per foot, its sole points on the floor (x, y)
   std::vector<bool> standing_;
   std::vector<Eigen::Vector2d> support_, hull_;
+  BalanceSample state_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
   Eigen::VectorXd base_force_;
 };

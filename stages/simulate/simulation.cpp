@@ -10,6 +10,7 @@
 #include "common/error.h"
 #include "stages/simulate/balance_controller.h"
 #include "stages/simulate/contact_consistent_torques.h"
+#include "stages/simulate/fall_diagnosis.h"
 #include "stages/simulate/ground_contact.h"
 #include "stages/simulate/joint_stops.h"
 #include "stages/simulate/plan_start.h"
@@ -36,6 +37,11 @@ constexpr double kPlannedContactHeight = 0.002;
 // body weights). With the torques that keep the held feet's rows (contact_consistent_torques.h), 11.9 at
 // 2 cm, the peaks on six walks at most 3.4 kN.
 constexpr double kPlannedForceHeight = 0.02;
+
+// The heading (rad) of a free base whose orientation quaternion (w, x, y, z) starts at `q`.
+double BaseHeading(const double* q) {
+  return std::atan2(2 * (q[0] * q[3] + q[1] * q[2]), 1 - 2 * (q[2] * q[2] + q[3] * q[3]));
+}
 
 double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return 2.0 * std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized()))));
@@ -154,6 +160,8 @@ std::string SimulateSummary::FullReport() const {
       out << "\n  balance plan: the reference's zero-moment point moved into the feet in " << balance_corrected_frames
           << " of " << frames << " frames, by up to " << balance_largest_zmp_correction_m * 1000
           << " mm; the body above the legs shifted up to " << balance_largest_shift_m * 1000 << " mm";
+      out << "\n  balance: the zero-moment point the capture point needed lay outside the standing soles in "
+          << clamped_frames << " of the " << balancing_frames << " frames with a sole on the floor";
     }
   }
   out << "\n  " << message;
@@ -322,6 +330,9 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   }
   summary.stopped_joint_steps = 0;
   summary.worst_limit_excess_deg = 0;
+  // Ground mode with balance: per recorded frame, what a fall's message summarises (fall_diagnosis.h).
+  std::vector<BalanceSample> balance_samples;
+  if (balance_controller) balance_samples.reserve(static_cast<size_t>(frames));
   double unexplained_force_sq = 0, unexplained_torque_sq = 0;
   for (int64_t t = 0; t < frames; ++t) {
     // The interval to the next frame in equal steps of at most 1/rate (the last frame: one nominal step,
@@ -348,6 +359,14 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
         summary.peak_vertical_force_n = std::max(summary.peak_vertical_force_n, force.z());
       }
       const Eigen::Matrix<double, 6, 1>& unexplained = distribution->planned().unexplained;
+      if (balance_controller) {
+        BalanceSample sample = balance_controller->state();
+        sample.time = input.time_s[static_cast<size_t>(t)];
+        sample.unexplained_yaw = unexplained[2];
+        const double turned = BaseHeading(q.data()) - BaseHeading(&input.q[static_cast<size_t>(t * nq)]);
+        sample.heading_error = std::remainder(turned, 2 * M_PI) * kDegreesPerRadian;
+        balance_samples.push_back(sample);
+      }
       std::copy(unexplained.data(), unexplained.data() + 6, out.unexplained_wrench.begin() + t * 6);
       unexplained_torque_sq += unexplained.head<3>().squaredNorm();
       unexplained_force_sq += unexplained.tail<3>().squaredNorm();
@@ -379,7 +398,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
           std::ostringstream why;
           why.precision(3);
           why << "fell at t = " << input.time_s[static_cast<size_t>(t)] + (step + 1) * dt << " s: the pelvis is " << q[6]
-              << " m high, under " << kFallenPelvisRatio * 100 << " % of the reference's " << reference << " m";
+              << " m high, under " << kFallenPelvisRatio * 100 << " % of the reference's " << reference << " m"
+              << DescribeFall(balance_samples, options.step_adjustment);
           KeepFirstFrames(out, t + 1);
           throw FallError(Location::InFile(input_name), why.str(), std::move(out));
         }
@@ -387,6 +407,13 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     }
   }
   summary.frames = frames;
+  if (balance_controller) {
+    summary.balancing_frames = summary.clamped_frames = 0;
+    for (const BalanceSample& sample : balance_samples) {
+      summary.balancing_frames += sample.balancing ? 1 : 0;
+      summary.clamped_frames += sample.balancing && ZmpClamped(sample) ? 1 : 0;
+    }
+  }
   if (ground) {
     summary.held_foot_steps = stance_feet->heldFootSteps();
     summary.tilted_foot_steps = stance_feet->tiltedFootSteps();

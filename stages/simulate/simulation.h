@@ -94,6 +94,11 @@ struct SimulateSummary {
   int64_t balance_corrected_frames = -1;
   double balance_largest_zmp_correction_m = -1;
   double balance_largest_shift_m = -1;
+  // Ground mode with balance: the recorded frames with a sole on the floor, and those where the
+  // zero-moment point the capture-point feedback wanted lay more than 5 mm outside the standing soles
+  // (clamped onto their edge: the feedback short of authority; fall_diagnosis.h).
+  int64_t balancing_frames = -1;
+  int64_t clamped_frames = -1;
 
   std::string BriefReport() const;
   std::string FullReport() const;

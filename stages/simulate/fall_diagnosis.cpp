@@ -1,0 +1,80 @@
+#include "stages/simulate/fall_diagnosis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace syn {
+namespace {
+
+constexpr double kClamped = 0.005;  // m
+// m: a capture point this close to the plan's counts as on it.
+constexpr double kOnThePlan = 0.05;
+// m: a landing shift past any leg's reach (a dance's foot held up for a second predicts metres).
+constexpr double kBeyondAnyStep = 1.0;
+
+}  // namespace
+
+bool ZmpClamped(const BalanceSample& sample) { return sample.zmp_shortfall > kClamped; }
+
+std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_cap) {
+  size_t last = samples.size();  // the last frame with a sole on the floor
+  for (size_t i = samples.size(); i-- > 0;) {
+    if (samples[i].balancing) {
+      last = i;
+      break;
+    }
+  }
+  if (last == samples.size()) return samples.empty() ? "" : "; no sole was ever on the floor";
+  std::ostringstream out;
+  out.precision(2);
+  out << std::fixed;
+  // The run that ends in the fall: from the last frame the capture point was on the plan to the first
+  // after it past a step's reach (what follows is the collapse, not its cause).
+  size_t onset = last;
+  while (onset > 0 && !(samples[onset - 1].balancing && samples[onset - 1].capture_error <= kOnThePlan)) --onset;
+  size_t lost = onset;
+  while (lost < last && samples[lost].capture_error <= step_cap) ++lost;
+  if (onset == 0 && !(samples[0].capture_error <= kOnThePlan)) {
+    out << "; the capture point was off the balance plan from the start (" << samples[0].capture_error << " m at t = "
+        << samples[0].time << " s)";
+  } else {
+    out << "; the capture point left the balance plan at t = " << samples[onset].time << " s (last within "
+        << kOnThePlan << " m of it)";
+  }
+  if (samples[lost].capture_error > step_cap) {
+    out << " and was past a step's reach (" << step_cap << " m) at t = " << samples[lost].time << " s";
+  }
+  int frames = 0, clamped = 0, planted_still = 0;
+  double shortfall = 0, landing = 0, yaw = 0, heading = 0;
+  for (size_t i = onset; i <= lost; ++i) {
+    const BalanceSample& sample = samples[i];
+    ++frames;
+    if (sample.balancing && ZmpClamped(sample)) ++clamped;
+    if (sample.standing_both && !sample.stepping) ++planted_still;
+    shortfall = std::max(shortfall, sample.zmp_shortfall);
+    landing = std::max(landing, sample.landing_needed);
+    yaw = std::max(yaw, std::abs(sample.unexplained_yaw));
+    heading = std::max(heading, std::abs(sample.heading_error));
+  }
+  out << "; in between, the zero-moment point it needed lay outside the standing soles in " << 100 * clamped / frames
+      << " % of the frames (by up to " << shortfall << " m)";
+  if (landing > kBeyondAnyStep) {
+    out << ", the steps under way needed landing shifts of more than " << kBeyondAnyStep << " m (the cap is " << step_cap
+        << " m)";
+  } else if (landing > 0) {
+    out << ", the steps under way needed landing shifts of up to " << landing << " m ("
+        << (landing > step_cap ? "past" : "within") << " the " << step_cap << " m cap)";
+  }
+  if (planted_still > 0) out << ", both feet stayed planted in the source for " << 100 * planted_still / frames << " % of it";
+  out.precision(0);
+  out << ", up to " << yaw << " N·m of the yaw moment planned no sole gave and the pelvis turned up to " << heading
+      << " deg off the reference's heading";
+  if (last + 1 < samples.size()) {
+    out.precision(2);
+    out << "; no sole on the floor after t = " << samples[last].time << " s";
+  }
+  return out.str();
+}
+
+}  // namespace syn

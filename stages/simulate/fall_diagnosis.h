@@ -1,0 +1,44 @@
+// `--contact ground`: why the robot fell, in the stage's own words.
+//
+// "fell at t = … s" told a user when, not why; finding out took a debug build that printed the balance
+// controller's state (session notes of 2026-11-27/28). Every fall of the shared CMU takes traced that way
+// was one of a few stories: the capture point ran off the balance plan while the zero-moment point it
+// needed lay outside the standing soles (clamped on their edge), and either no foot was stepping to
+// catch it (the source kept both feet planted: CMU 60_10) or the step it needed was past the landing
+// shift's cap (CMU 03_04, 09_12); or the controller planned yaw moments no sole could give and the body
+// turned off the reference's heading (CMU 07_12). So the simulation keeps, per recorded frame, what
+// tells those stories apart (BalanceSample), and a fall's message ends with a summary of the last second
+// before it: numbers, not a verdict, so that a user can judge a take we never saw.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace syn {
+
+// The balance controller's view of one recorded frame (ground mode with balance).
+struct BalanceSample {
+  double time = 0;             // s
+  bool balancing = false;      // some sole was on the floor (the centre-of-mass level was set)
+  double capture_error = 0;    // m: the capture point's distance from the balance plan's
+  double zmp_shortfall = 0;    // m: how far outside the standing soles the zero-moment point it needed lay
+  bool standing_both = false;  // both feet standing (planted in the source and on the floor)
+  bool stepping = false;       // a foot was swinging toward a touchdown of the source's
+  double landing_needed = 0;   // m: the largest landing shift a swinging foot needed (uncapped; 0 if none)
+  double unexplained_yaw = 0;  // N·m: the yaw moment the controller planned that no sole force gave
+  double heading_error = 0;    // deg: the pelvis's heading off the reference's
+};
+
+// Whether the zero-moment point the feedback wanted lay outside the standing soles, clamped onto their
+// edge (more than 5 mm out: not rounding).
+[[nodiscard]] bool ZmpClamped(const BalanceSample& sample);
+
+// The summary appended to a fall's message. It finds when the capture point left the balance plan for
+// good (the last frame it was within 5 cm of it) and when it was past a step's reach (`step_cap`, m, the
+// landing shift's cap), and reports over that run: in what share of the frames the zero-moment point it
+// needed lay outside the standing soles, the largest landing shift the steps under way needed, the share
+// of it both feet stayed planted with no step under way, the largest yaw moment no sole gave and the
+// largest heading error. Empty when there are no samples.
+[[nodiscard]] std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_cap);
+
+}  // namespace syn

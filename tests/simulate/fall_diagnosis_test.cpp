@@ -1,0 +1,86 @@
+// A fall's summary (fall_diagnosis.h) on histories whose story is known: the run it reports starts at the
+// last frame the capture point was on the plan and ends where it was past a step's reach, and the shares
+// and extremes it quotes are those of that run, not of the collapse after it.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "stages/simulate/fall_diagnosis.h"
+
+namespace syn {
+namespace {
+
+constexpr double kCap = 0.3;
+
+// 100 frames at 100 Hz: on the plan until 0.5 s, then off it by 6.5 cm growing 1 m/s (past the 0.3 m cap
+// at 0.74 s) with the zero-moment point clamped; standing on both feet unless `stepping`, whose step needs
+// a landing shift of `landing` m; yaw moments of 30 N·m on the plan and 200 N·m in the collapse past 0.9 s.
+std::vector<BalanceSample> History(bool stepping, double landing) {
+  std::vector<BalanceSample> samples;
+  for (int i = 0; i < 100; ++i) {
+    BalanceSample sample;
+    sample.time = 0.01 * i;
+    sample.balancing = true;
+    sample.capture_error = sample.time <= 0.5 ? 0.01 : 0.065 + (sample.time - 0.5);
+    sample.zmp_shortfall = sample.time <= 0.5 ? 0.0 : 0.02 + 0.1 * (sample.time - 0.5);
+    sample.standing_both = !stepping;
+    sample.stepping = stepping && sample.time > 0.5;
+    sample.landing_needed = sample.stepping ? landing : 0.0;
+    sample.unexplained_yaw = sample.time > 0.9 ? -200.0 : 30.0;
+    sample.heading_error = sample.time > 0.9 ? 90.0 : -12.0;
+    samples.push_back(sample);
+  }
+  return samples;
+}
+
+bool Has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+TEST(FallDiagnosis, StandingWithNoStepToTake) {
+  const std::string text = DescribeFall(History(false, 0), kCap);
+  EXPECT_TRUE(Has(text, "left the balance plan at t = 0.51 s (last within 0.05 m of it)")) << text;
+  EXPECT_TRUE(Has(text, "past a step's reach (0.30 m) at t = 0.74 s")) << text;
+  EXPECT_TRUE(Has(text, "outside the standing soles in 100 % of the frames")) << text;
+  EXPECT_TRUE(Has(text, "both feet stayed planted in the source for 100 %")) << text;
+  EXPECT_FALSE(Has(text, "landing")) << text;
+  // The run's yaw and heading, not the collapse's.
+  EXPECT_TRUE(Has(text, "up to 30 N·m of the yaw moment")) << text;
+  EXPECT_TRUE(Has(text, "up to 12 deg off the reference's heading")) << text;
+}
+
+TEST(FallDiagnosis, AStepPastItsCap) {
+  const std::string past = DescribeFall(History(true, 0.45), kCap);
+  EXPECT_TRUE(Has(past, "landing shifts of up to 0.45 m (past the 0.30 m cap)")) << past;
+  EXPECT_FALSE(Has(past, "planted")) << past;
+  const std::string within = DescribeFall(History(true, 0.2), kCap);
+  EXPECT_TRUE(Has(within, "(within the 0.30 m cap)")) << within;
+  // A swing held up for seconds predicts an error of metres: no number pretends to be a step.
+  const std::string beyond = DescribeFall(History(true, 104.0), kCap);
+  EXPECT_TRUE(Has(beyond, "landing shifts of more than 1.00 m")) << beyond;
+}
+
+TEST(FallDiagnosis, OffThePlanFromTheStartAndThenInTheAir) {
+  std::vector<BalanceSample> samples = History(false, 0);
+  for (BalanceSample& sample : samples) sample.capture_error += 0.2;
+  for (size_t i = 95; i < samples.size(); ++i) samples[i].balancing = false;
+  const std::string text = DescribeFall(samples, kCap);
+  EXPECT_TRUE(Has(text, "off the balance plan from the start (0.21 m at t = 0.00 s)")) << text;
+  EXPECT_TRUE(Has(text, "no sole on the floor after t = 0.94 s")) << text;
+}
+
+TEST(FallDiagnosis, NothingToSay) {
+  EXPECT_EQ(DescribeFall({}, kCap), "");
+  std::vector<BalanceSample> airborne(3);
+  EXPECT_EQ(DescribeFall(airborne, kCap), "; no sole was ever on the floor");
+}
+
+TEST(FallDiagnosis, ClampedMeansMoreThanRounding) {
+  BalanceSample sample;
+  sample.zmp_shortfall = 0.004;
+  EXPECT_FALSE(ZmpClamped(sample));
+  sample.zmp_shortfall = 0.006;
+  EXPECT_TRUE(ZmpClamped(sample));
+}
+
+}  // namespace
+}  // namespace syn
