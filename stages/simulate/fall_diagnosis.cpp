@@ -42,9 +42,8 @@ std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_
     out << "; the capture point left the balance plan at t = " << samples[onset].time << " s (last within "
         << kOnThePlan << " m of it)";
   }
-  if (samples[lost].capture_error > step_cap) {
-    out << " and was past a step's reach (" << step_cap << " m) at t = " << samples[lost].time << " s";
-  }
+  const bool past_reach = samples[lost].capture_error > step_cap;
+  if (past_reach) out << " and was past a step's reach (" << step_cap << " m) at t = " << samples[lost].time << " s";
   int frames = 0, clamped = 0, planted_still = 0;
   double shortfall = 0, landing = 0, yaw = 0, heading = 0;
   for (size_t i = onset; i <= lost; ++i) {
@@ -57,7 +56,12 @@ std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_
     yaw = std::max(yaw, std::abs(sample.unexplained_yaw));
     heading = std::max(heading, std::abs(sample.heading_error));
   }
-  out << "; in between, the zero-moment point it needed lay outside the standing soles in " << 100 * clamped / frames
+  if (past_reach) {
+    out << "; in between";
+  } else {
+    out << "; from then to t = " << samples[lost].time << " s";
+  }
+  out << ", the zero-moment point it needed lay outside the standing soles in " << 100 * clamped / frames
       << " % of the frames (by up to " << shortfall << " m)";
   if (landing > kBeyondAnyStep) {
     out << ", the steps under way needed landing shifts of more than " << kBeyondAnyStep << " m (the cap is " << step_cap

@@ -68,6 +68,18 @@ TEST(FallDiagnosis, OffThePlanFromTheStartAndThenInTheAir) {
   EXPECT_TRUE(Has(text, "no sole on the floor after t = 0.94 s")) << text;
 }
 
+// A fall whose capture point never got past a step's reach before the soles left the floor (CMU 94_15):
+// the run reported ends at the last frame with a sole down.
+TEST(FallDiagnosis, InTheAirBeforePastReach) {
+  std::vector<BalanceSample> samples = History(false, 0);
+  for (size_t i = 60; i < samples.size(); ++i) samples[i].balancing = false;
+  const std::string text = DescribeFall(samples, kCap);
+  EXPECT_FALSE(Has(text, "past a step's reach")) << text;
+  EXPECT_TRUE(Has(text, "left the balance plan at t = 0.51 s (last within 0.05 m of it); from then to t = 0.59 s,"))
+      << text;
+  EXPECT_TRUE(Has(text, "no sole on the floor after t = 0.59 s")) << text;
+}
+
 TEST(FallDiagnosis, NothingToSay) {
   EXPECT_EQ(DescribeFall({}, kCap), "");
   std::vector<BalanceSample> airborne(3);
