@@ -49,7 +49,7 @@ std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_
   for (size_t i = onset; i <= lost; ++i) {
     const BalanceSample& sample = samples[i];
     ++frames;
-    if (sample.balancing && ZmpClamped(sample)) ++clamped;
+    if (ZmpClamped(sample)) ++clamped;
     if (sample.standing_both && !sample.stepping) ++planted_still;
     shortfall = std::max(shortfall, sample.zmp_shortfall);
     landing = std::max(landing, sample.landing_needed);

@@ -7,8 +7,8 @@
 // catch it (the source kept both feet planted: CMU 60_10) or the step it needed was past the landing
 // shift's cap (CMU 03_04, 09_12); or the controller planned yaw moments no sole could give and the body
 // turned off the reference's heading (CMU 07_12). So the simulation keeps, per recorded frame, what
-// tells those stories apart (BalanceSample), and a fall's message ends with a summary of the last second
-// before it: numbers, not a verdict, so that a user can judge a take we never saw.
+// tells those stories apart (BalanceSample), and a fall's message ends with a summary of the run in which
+// balance was lost: numbers, not a verdict, so that a user can judge a take we never saw.
 #pragma once
 
 #include <string>
@@ -30,7 +30,7 @@ struct BalanceSample {
 };
 
 // Whether the zero-moment point the feedback wanted lay outside the standing soles, clamped onto their
-// edge (more than 5 mm out: not rounding).
+// edge (more than 5 mm out: not rounding). Never on a frame with no sole on the floor (its shortfall is 0).
 [[nodiscard]] bool ZmpClamped(const BalanceSample& sample);
 
 // The summary appended to a fall's message. It finds when the capture point left the balance plan for

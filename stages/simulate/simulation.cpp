@@ -8,6 +8,7 @@
 #include <Eigen/Cholesky>
 
 #include "common/error.h"
+#include "common/motion_integration.h"
 #include "stages/simulate/balance_controller.h"
 #include "stages/simulate/contact_consistent_torques.h"
 #include "stages/simulate/fall_diagnosis.h"
@@ -37,11 +38,6 @@ constexpr double kPlannedContactHeight = 0.002;
 // body weights). With the torques that keep the held feet's rows (contact_consistent_torques.h), 11.9 at
 // 2 cm, the peaks on six walks at most 3.4 kN.
 constexpr double kPlannedForceHeight = 0.02;
-
-// The heading (rad) of a free base whose orientation quaternion (w, x, y, z) starts at `q`.
-double BaseHeading(const double* q) {
-  return std::atan2(2 * (q[0] * q[3] + q[1] * q[2]), 1 - 2 * (q[2] * q[2] + q[3] * q[3]));
-}
 
 double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return 2.0 * std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized()))));
@@ -363,7 +359,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
         BalanceSample sample = balance_controller->state();
         sample.time = input.time_s[static_cast<size_t>(t)];
         sample.unexplained_yaw = unexplained[2];
-        const double turned = BaseHeading(q.data()) - BaseHeading(&input.q[static_cast<size_t>(t * nq)]);
+        const double turned = BaseYaw(q.data()) - BaseYaw(&input.q[static_cast<size_t>(t * nq)]);
         sample.heading_error = std::remainder(turned, 2 * M_PI) * kDegreesPerRadian;
         balance_samples.push_back(sample);
       }
@@ -411,7 +407,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     summary.balancing_frames = summary.clamped_frames = 0;
     for (const BalanceSample& sample : balance_samples) {
       summary.balancing_frames += sample.balancing ? 1 : 0;
-      summary.clamped_frames += sample.balancing && ZmpClamped(sample) ? 1 : 0;
+      summary.clamped_frames += ZmpClamped(sample) ? 1 : 0;
     }
   }
   if (ground) {
