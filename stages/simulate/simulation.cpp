@@ -152,6 +152,10 @@ std::string SimulateSummary::FullReport() const {
         << unexplained_torque_rms_nm << " N·m; joints on their mechanical stops in " << stopped_joint_steps
         << " joint-steps, at most " << worst_limit_excess_deg << " deg past a limit; held soles more than 3 deg off flat in "
         << tilted_foot_steps << " of " << held_foot_steps << " foot-steps";
+    out << "\n  held feet over the source's " << held_phases << " contact phases, from where each phase's first hold found"
+        << " them: turned " << held_turn_median_deg << " deg median, " << held_turn_p95_deg << " p95, " << held_turn_max_deg
+        << " at most; sole centre moved " << held_move_median_mm << " mm median, " << held_move_p95_mm << " p95, "
+        << held_move_max_mm << " at most";
     if (balance_corrected_frames >= 0) {
       out << "\n  balance plan: the reference's zero-moment point moved into the feet in " << balance_corrected_frames
           << " of " << frames << " frames, by up to " << balance_largest_zmp_correction_m * 1000
@@ -199,6 +203,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     planned.max_height = kPlannedForceHeight;
     distribution.emplace(model, map.feet, planned, options.controller.effort_limits);
     stance_feet.emplace(model, map.feet, StanceFeetOptions{.touch_height = kPlannedContactHeight});
+    stance_feet->reservePhases(static_cast<size_t>(input.frames()) * map.feet.size());
     for (size_t f = 0; f < map.feet.size(); ++f) {
       for (size_t c = 0; c < input.contact_feet.size(); ++c) {
         if (input.contact_feet[c] == map.feet[f].side) contact_column[f] = static_cast<int>(c);
@@ -413,6 +418,14 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   if (ground) {
     summary.held_foot_steps = stance_feet->heldFootSteps();
     summary.tilted_foot_steps = stance_feet->tiltedFootSteps();
+    const StanceFeet::PhaseDrift drift = stance_feet->phaseDrift();
+    summary.held_phases = drift.phases;
+    summary.held_turn_median_deg = drift.median_turn * kDegreesPerRadian;
+    summary.held_turn_p95_deg = drift.p95_turn * kDegreesPerRadian;
+    summary.held_turn_max_deg = drift.largest_turn * kDegreesPerRadian;
+    summary.held_move_median_mm = drift.median_move * 1000;
+    summary.held_move_p95_mm = drift.p95_move * 1000;
+    summary.held_move_max_mm = drift.largest_move * 1000;
     summary.unexplained_force_rms_n = std::sqrt(unexplained_force_sq / static_cast<double>(frames));
     summary.unexplained_torque_rms_nm = std::sqrt(unexplained_torque_sq / static_cast<double>(frames));
   }

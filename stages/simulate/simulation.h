@@ -89,6 +89,12 @@ struct SimulateSummary {
   // with its sole more than 3° off flat (standing on an edge or a corner).
   int64_t held_foot_steps = -1;
   int64_t tilted_foot_steps = -1;
+  // Ground mode: over the source's contact phases whose foot was held, how far the held sole turned
+  // (deg) and its centre moved (mm) from where the phase's first hold found it: median, p95, largest
+  // (StanceFeet::PhaseDrift; syn-retarget's stance drift is the same measure on the kinematic motion).
+  int64_t held_phases = -1;
+  double held_turn_median_deg = -1, held_turn_p95_deg = -1, held_turn_max_deg = -1;
+  double held_move_median_mm = -1, held_move_p95_mm = -1, held_move_max_mm = -1;
   // Ground mode with balance: the frames whose reference zero-moment point the plan moved into the feet,
   // the largest such move and the largest shift of the body above the legs (m).
   int64_t balance_corrected_frames = -1;

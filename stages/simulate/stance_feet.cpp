@@ -1,9 +1,12 @@
 #include "stages/simulate/stance_feet.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include <Eigen/Geometry>
+
+#include "common/percentile.h"
 
 namespace syn {
 
@@ -30,12 +33,32 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted) {
     double lowest = std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3d& point : sole_points_[f]) lowest = std::min(lowest, (pose * point).z());
     const bool hold = planted[f] != 0 && lowest <= options_.touch_height;
-    if (hold && !stance_[f].held) {
-      stance_[f].anchor = pose * sole_centre_[f];
-      stance_[f].anchor.z() = 0.0;
-      stance_[f].yaw = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+    Stance& stance = stance_[f];
+    const Eigen::Vector3d centre = pose * sole_centre_[f];
+    const double yaw = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+    if (hold && !stance.held) {
+      stance.anchor = centre;
+      stance.anchor.z() = 0.0;
+      stance.yaw = yaw;
     }
-    stance_[f].held = hold;
+    stance.held = hold;
+    // The source's phase: it ends when the source lifts the foot.
+    if (stance.planted && planted[f] == 0 && stance.phase_held) {
+      phase_turns_.push_back(stance.phase_turn);
+      phase_moves_.push_back(stance.phase_move);
+    }
+    if (planted[f] == 0) stance.phase_held = false;
+    stance.planted = planted[f] != 0;
+    if (hold && !stance.phase_held) {
+      stance.phase_held = true;
+      stance.phase_start = centre.head<2>();
+      stance.phase_yaw = yaw;
+      stance.phase_turn = stance.phase_move = 0.0;
+    }
+    if (stance.phase_held) {
+      stance.phase_turn = std::max(stance.phase_turn, std::abs(std::remainder(yaw - stance.phase_yaw, 2 * M_PI)));
+      stance.phase_move = std::max(stance.phase_move, (centre.head<2>() - stance.phase_start).norm());
+    }
     held += hold ? 1 : 0;
   }
   const Eigen::Index nu = foot_jacobian_.cols();
@@ -65,6 +88,28 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted) {
     row += 6;
   }
   return held;
+}
+
+void StanceFeet::reservePhases(size_t phases) {
+  phase_turns_.reserve(phases);
+  phase_moves_.reserve(phases);
+}
+
+StanceFeet::PhaseDrift StanceFeet::phaseDrift() const {
+  std::vector<double> turns = phase_turns_, moves = phase_moves_;  // after the run: allocating is fine
+  for (const Stance& stance : stance_) {
+    if (stance.phase_held) turns.push_back(stance.phase_turn), moves.push_back(stance.phase_move);
+  }
+  PhaseDrift drift;
+  drift.phases = static_cast<int64_t>(turns.size());
+  if (turns.empty()) return drift;
+  drift.largest_turn = *std::max_element(turns.begin(), turns.end());
+  drift.largest_move = *std::max_element(moves.begin(), moves.end());
+  drift.median_turn = NearestRankPercentile(turns, 0.5);
+  drift.p95_turn = NearestRankPercentile(turns, 0.95);
+  drift.median_move = NearestRankPercentile(moves, 0.5);
+  drift.p95_move = NearestRankPercentile(moves, 0.95);
+  return drift;
 }
 
 }  // namespace syn

@@ -49,11 +49,31 @@ class StanceFeet {
   int64_t heldFootSteps() const { return held_foot_steps_; }
   int64_t tiltedFootSteps() const { return tilted_foot_steps_; }
 
+  // How far held feet moved over each contact phase of the source (a foot planted from one lift-off to
+  // the next), against the pose its sole had when the phase's first hold began: the largest turn about
+  // the vertical (rad) and the largest horizontal move of the sole centre (m). A hold that lapses for a
+  // moment (the sole a few mm up) re-anchors where the foot then is, so a foot can creep hold by hold;
+  // this measure spans the whole phase and sees that. Phases still open count as they stand. Medians are
+  // nearest-rank (common/percentile.h), as syn-retarget reports its stance drift.
+  struct PhaseDrift {
+    int64_t phases = 0;
+    double median_turn = 0, p95_turn = 0, largest_turn = 0;  // rad
+    double median_move = 0, p95_move = 0, largest_move = 0;  // m
+  };
+  PhaseDrift phaseDrift() const;
+  // Room for `phases` finished phases, so that update() does not allocate.
+  void reservePhases(size_t phases);
+
  private:
   struct Stance {
     bool held = false;
     Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  // the sole centre's, on the floor (ground frame)
     double yaw = 0.0;                                  // the heading it touched down with
+    // The source's contact phase: whether one is under way and has been held, the sole centre and heading
+    // at its first hold, and the largest turn and move since.
+    bool planted = false, phase_held = false;
+    Eigen::Vector2d phase_start = Eigen::Vector2d::Zero();
+    double phase_yaw = 0.0, phase_turn = 0.0, phase_move = 0.0;
   };
   StanceFeetOptions options_;
   std::vector<int> foot_links_;
@@ -65,6 +85,7 @@ class StanceFeet {
   Eigen::MatrixXd jacobian_;
   Eigen::VectorXd acceleration_;
   int64_t held_foot_steps_ = 0, tilted_foot_steps_ = 0;
+  std::vector<double> phase_turns_, phase_moves_;  // per finished phase that was held
 };
 
 }  // namespace syn

@@ -13,6 +13,7 @@
 
 #include "common/error.h"
 #include "common/model.h"
+#include "common/percentile.h"
 #include "common/robot_map.h"
 #include "stages/simulate/fixed_step_integrator.h"
 #include "stages/simulate/simulation.h"
@@ -173,6 +174,45 @@ double TiltedStanceFraction(const RobotMap& map, const MotionData& input, const 
   return held > 0 ? static_cast<double>(tilted) / static_cast<double>(held) : 0.0;
 }
 
+// Over each contact phase of the source (frames it plants a foot) whose foot the simulated record has on
+// the floor: how far the sole turned about the vertical (deg) and its centre moved horizontally (mm) from
+// the phase's first frame on the floor, as StanceFeet::PhaseDrift measures at the control rate; here at
+// the recorded frames, by the tests' own forward kinematics. Returns the per-phase turns and moves.
+struct RecordedPhaseDrift {
+  std::vector<double> turns_deg, moves_mm;
+};
+RecordedPhaseDrift HeldPhaseDrift(const RobotMap& map, const MotionData& input, const MotionData& output) {
+  const testing::IndependentFk fk(SourcePath(testing::kG1Urdf));
+  RecordedPhaseDrift drift;
+  const size_t feet = output.contact_feet.size();
+  for (size_t f = 0; f < feet && f < map.feet.size(); ++f) {
+    Eigen::Vector3d centre_local = Eigen::Vector3d::Zero();
+    for (const std::array<double, 3>& p : map.feet[f].sole_points) centre_local += Eigen::Vector3d(p[0], p[1], p[2]);
+    centre_local /= static_cast<double>(map.feet[f].sole_points.size());
+    bool held = false;
+    Eigen::Vector2d start = Eigen::Vector2d::Zero();
+    double start_yaw = 0, turn = 0, move = 0;
+    for (int64_t t = 0; t <= output.frames(); ++t) {
+      const bool planted = t < output.frames() && SourcePlants(input, map.feet[f].side, t);
+      if (!planted) {
+        if (held) drift.turns_deg.push_back(turn * 180 / M_PI), drift.moves_mm.push_back(move * 1000);
+        held = false;
+        continue;
+      }
+      const bool touching = output.contact[static_cast<size_t>(t) * feet + f] != 0;
+      if (!held && !touching) continue;
+      const Eigen::Isometry3d pose =
+          fk.poses(output.coordinate_names, &output.q[static_cast<size_t>(t * output.nq())], true).at(map.feet[f].link);
+      const Eigen::Vector2d centre = (pose * centre_local).head<2>();
+      const double yaw = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+      if (!held) held = true, start = centre, start_yaw = yaw, turn = move = 0;
+      turn = std::max(turn, std::abs(std::remainder(yaw - start_yaw, 2 * M_PI)));
+      move = std::max(move, (centre - start).norm());
+    }
+  }
+  return drift;
+}
+
 // Ground mode on a robot asked to stand: it stays up, its soles stay within 1 cm of the floor, the
 // ground carries its weight (the feet's vertical forces sum to m g within 5 % once settled), and the
 // balance controller keeps its posture (joint RMS under 0.5°; a version that also held the feet and
@@ -191,7 +231,12 @@ TEST_F(GroundMode, StandingRobotStaysUpOnItsSoles) {
   EXPECT_GT(result.summary.held_foot_steps, 0);
   EXPECT_LE(result.summary.tilted_foot_steps, result.summary.held_foot_steps / 100);
   EXPECT_LE(TiltedStanceFraction(map, motion, result.motion), 0.01);
-  std::cout << "standing 1 s on the ground: lowest pelvis " << result.summary.lowest_pelvis_ratio * 100
+  // Both feet held through one contact phase each, and kept where they stood.
+  EXPECT_EQ(result.summary.held_phases, 2);
+  EXPECT_LT(result.summary.held_turn_max_deg, 0.5);
+  EXPECT_LT(result.summary.held_move_max_mm, 1.0);
+  std::cout << "standing 1 s on the ground: held feet turned up to " << result.summary.held_turn_max_deg << " deg and moved up to "
+            << result.summary.held_move_max_mm << " mm; lowest pelvis " << result.summary.lowest_pelvis_ratio * 100
             << " %, deepest sole " << result.summary.deepest_penetration_mm << " mm, final vertical force " << vertical
             << " N (weight " << model.totalMass() * 9.81 << " N)\n";
 }
@@ -468,6 +513,18 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
                   "foot-steps, %.0f %% of recorded frames)\n", trial.name.c_str(), result.summary.lowest_pelvis_ratio,
                   LimitExcess(model, result.motion).c_str(), 100 * counted, 100 * tilted);
       EXPECT_NEAR(counted, tilted, 0.1) << trial.name << ": the stage's count of tilted held soles against FK of its record";
+      const RecordedPhaseDrift recorded = HeldPhaseDrift(map, walk, result.motion);
+      const double recorded_turn = NearestRankPercentile(recorded.turns_deg, 0.5), recorded_move = NearestRankPercentile(recorded.moves_mm, 0.5);
+      std::printf("%s: held feet over %lld phases turned %.1f deg median (%.1f at most), moved %.1f mm median (%.1f at most); "
+                  "from the record: %zu phases, %.1f deg, %.1f mm\n", trial.name.c_str(), static_cast<long long>(result.summary.held_phases),
+                  result.summary.held_turn_median_deg, result.summary.held_turn_max_deg, result.summary.held_move_median_mm,
+                  result.summary.held_move_max_mm, recorded.turns_deg.size(), recorded_turn, recorded_move);
+      // The stage's measure (at 1 kHz, from the first held step) against the record's (at 120 Hz, from the
+      // first recorded frame on the floor, up to 8 ms later). Session 33: the same phase counts, medians
+      // within 0.8 deg and 2.1 mm on the 17 walks up.
+      EXPECT_EQ(static_cast<size_t>(result.summary.held_phases), recorded.turns_deg.size()) << trial.name;
+      EXPECT_NEAR(result.summary.held_turn_median_deg, recorded_turn, 1.5) << trial.name << ": held feet's turn against FK of the record";
+      EXPECT_NEAR(result.summary.held_move_median_mm, recorded_move, 3.0) << trial.name << ": held feet's move against FK of the record";
       EXPECT_LE(WorstLimitExcess(model, result.motion), kStopTolerance) << trial.name << ": a joint past its URDF limit";
       // Issue 18: soles never more than 1 cm into the floor; and no contact chatter (with the contact's
       // dissipation at 10 s/m the soles' force switched between 0 and 20-43 kN every step, 13 mm deep).

@@ -1,0 +1,110 @@
+// Ground mode's held feet (stages/simulate/stance_feet.h): how far a held sole turned and moved over the
+// source's contact phase, against poses set by hand on a G1 standing on both feet.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Geometry>
+
+#include "common/model.h"
+#include "common/robot_map.h"
+#include "stages/simulate/stance_feet.h"
+#include "tests/support/demo_motion.h"
+#include "tests/support/shared_data.h"
+#include "tests/support/standing_pose.h"
+
+namespace syn {
+namespace {
+
+class HeldPhases : public ::testing::Test {
+ protected:
+  HeldPhases()
+      : model(Model::Load(testing::SourcePath(testing::kG1Urdf))),
+        map(LoadRobotMap(testing::SourcePath(testing::kG1Map))),
+        workspace(model),
+        standing(testing::StandingZeroPose(model, map)) {}
+
+  // The standing pose turned by `yaw` about the vertical through the ground origin and moved by `offset`:
+  // the free base's quaternion (w, x, y, z) and position lead q.
+  Eigen::VectorXd Moved(double yaw, const Eigen::Vector3d& offset) const {
+    Eigen::VectorXd q = standing;
+    const Eigen::Quaterniond turn(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+    const Eigen::Quaterniond base = turn * Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+    q[0] = base.w(), q[1] = base.x(), q[2] = base.y(), q[3] = base.z();
+    q.segment<3>(4) = turn * Eigen::Vector3d(q.segment<3>(4)) + offset;
+    return q;
+  }
+
+  // Where a foot's sole centre is for q (ground x, y).
+  Eigen::Vector2d SoleCentre(const Eigen::VectorXd& q, size_t foot) {
+    workspace.setQ(q);
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const auto& p : map.feet[foot].sole_points) centre += Eigen::Vector3d(p[0], p[1], p[2]);
+    centre /= static_cast<double>(map.feet[foot].sole_points.size());
+    return (workspace.findLinkPose(model.findLinkIndex(map.feet[foot].link)) * centre).head<2>();
+  }
+
+  int Update(StanceFeet& feet, const Eigen::VectorXd& q, int64_t planted) {
+    workspace.setQ(q);
+    workspace.setU(Eigen::VectorXd::Zero(model.nu()));  // at rest (the hold's rows need the velocities set)
+    const int64_t flags[2] = {planted, planted};
+    return feet.update(workspace, flags);
+  }
+
+  Model model;
+  RobotMap map;
+  Workspace workspace;
+  Eigen::VectorXd standing;
+};
+
+TEST_F(HeldPhases, ATurnWhileHeldIsMeasuredFromThePhasesStart) {
+  StanceFeet feet(model, map.feet, StanceFeetOptions{});
+  feet.reservePhases(8);
+  EXPECT_EQ(Update(feet, standing, 1), 2);
+  const double yaw = 10.0 * M_PI / 180.0;
+  const Eigen::VectorXd turned = Moved(yaw, Eigen::Vector3d::Zero());
+  EXPECT_EQ(Update(feet, turned, 1), 2);
+  // Still open: the phases count as they stand.
+  StanceFeet::PhaseDrift drift = feet.phaseDrift();
+  EXPECT_EQ(drift.phases, 2);
+  EXPECT_NEAR(drift.largest_turn, yaw, 1e-9);
+  EXPECT_NEAR(drift.median_turn, yaw, 1e-9);
+  // The source lifts both feet: the phases close with the largest turn and move they saw.
+  EXPECT_EQ(Update(feet, standing, 0), 0);
+  drift = feet.phaseDrift();
+  EXPECT_EQ(drift.phases, 2);
+  EXPECT_NEAR(drift.largest_turn, yaw, 1e-9);
+  const double left = (SoleCentre(turned, 0) - SoleCentre(standing, 0)).norm();
+  const double right = (SoleCentre(turned, 1) - SoleCentre(standing, 1)).norm();
+  EXPECT_GT(std::max(left, right), 0.01);  // the feet are 10-12 cm off the turn's axis
+  EXPECT_NEAR(drift.largest_move, std::max(left, right), 1e-9);
+}
+
+// A hold that lapses (the sole lifted past the touch height) re-anchors where the foot comes back down; the
+// phase's measure still counts from where the phase began, so a foot creeping hold by hold is seen.
+TEST_F(HeldPhases, ACreepAcrossALapsedHoldCountsFromThePhasesStart) {
+  StanceFeet feet(model, map.feet, StanceFeetOptions{});
+  feet.reservePhases(8);
+  EXPECT_EQ(Update(feet, standing, 1), 2);
+  EXPECT_EQ(Update(feet, Moved(0, {0.004, 0, 0.01}), 1), 0);  // 1 cm up: no sole touches, no hold
+  EXPECT_EQ(Update(feet, Moved(0, {0.008, 0, 0}), 1), 2);     // down again 8 mm on: held anew there
+  EXPECT_EQ(Update(feet, Moved(0, {0.012, 0, 0}), 1), 2);
+  const StanceFeet::PhaseDrift drift = feet.phaseDrift();
+  EXPECT_EQ(drift.phases, 2);
+  EXPECT_NEAR(drift.largest_move, 0.012, 1e-9);
+  EXPECT_NEAR(drift.median_move, 0.012, 1e-9);
+  EXPECT_NEAR(drift.largest_turn, 0.0, 1e-9);
+}
+
+// A phase the robot never stood in (the sole stayed up) is not a held phase.
+TEST_F(HeldPhases, APhaseNeverHeldIsNotCounted) {
+  StanceFeet feet(model, map.feet, StanceFeetOptions{});
+  EXPECT_EQ(Update(feet, Moved(0, {0, 0, 0.02}), 1), 0);
+  EXPECT_EQ(Update(feet, Moved(0, {0.05, 0, 0.02}), 0), 0);
+  EXPECT_EQ(feet.phaseDrift().phases, 0);
+  EXPECT_EQ(feet.phaseDrift().largest_move, 0.0);
+}
+
+}  // namespace
+}  // namespace syn
