@@ -110,6 +110,8 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
   state_.balancing = true;
   state_.capture_error = capture_error.norm();
   state_.zmp_shortfall = (wanted_zmp - commanded_zmp).norm();
+  state_.plan_shortfall = (ClosestInPolygon(zmp_plan, hull_) - zmp_plan).norm();
+  state_.support_points = static_cast<int>(support_.size());
   state_.standing_both = std::count(standing_.begin(), standing_.end(), true) >= 2;
   const Eigen::Vector2d horizontal =
       acceleration_plan + omega * omega * ((com.head<2>() - com_plan) - (commanded_zmp - zmp_plan));

@@ -17,6 +17,8 @@ constexpr double kBeyondAnyStep = 1.0;
 
 bool ZmpClamped(const BalanceSample& sample) { return sample.zmp_shortfall > kClamped; }
 
+bool PlanOffTheSoles(const BalanceSample& sample) { return sample.plan_shortfall > kClamped; }
+
 std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_cap) {
   size_t last = samples.size();  // the last frame with a sole on the floor
   for (size_t i = samples.size(); i-- > 0;) {
@@ -44,12 +46,14 @@ std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_
   }
   const bool past_reach = samples[lost].capture_error > step_cap;
   if (past_reach) out << " and was past a step's reach (" << step_cap << " m) at t = " << samples[lost].time << " s";
-  int frames = 0, clamped = 0, planted_still = 0;
+  int frames = 0, clamped = 0, planted_still = 0, plan_off = 0, on_an_edge = 0;
   double shortfall = 0, landing = 0, yaw = 0, heading = 0;
   for (size_t i = onset; i <= lost; ++i) {
     const BalanceSample& sample = samples[i];
     ++frames;
     if (ZmpClamped(sample)) ++clamped;
+    if (PlanOffTheSoles(sample)) ++plan_off;
+    if (sample.balancing && sample.support_points <= 2) ++on_an_edge;
     if (sample.standing_both && !sample.stepping) ++planted_still;
     shortfall = std::max(shortfall, sample.zmp_shortfall);
     landing = std::max(landing, sample.landing_needed);
@@ -62,7 +66,12 @@ std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_
     out << "; from then to t = " << samples[lost].time << " s";
   }
   out << ", the zero-moment point it needed lay outside the standing soles in " << 100 * clamped / frames
-      << " % of the frames (by up to " << shortfall << " m)";
+      << " % of the frames (by up to " << shortfall << " m), the balance plan's own in " << 100 * plan_off / frames << " %";
+  if (plan_off > 0) out << " (the standing soles were not where the plan had the feet)";
+  if (on_an_edge > 0) {
+    out << ", the standing soles touched the floor at one or two points (a corner or an edge) in " << 100 * on_an_edge / frames
+        << " %";
+  }
   if (landing > kBeyondAnyStep) {
     out << ", the steps under way needed landing shifts of more than " << kBeyondAnyStep << " m (the cap is " << step_cap
         << " m)";

@@ -8,7 +8,9 @@
 // shift's cap (CMU 03_04, 09_12); or the controller planned yaw moments no sole could give and the body
 // turned off the reference's heading (CMU 07_12). So the simulation keeps, per recorded frame, what
 // tells those stories apart (BalanceSample), and a fall's message ends with a summary of the run in which
-// balance was lost: numbers, not a verdict, so that a user can judge a take we never saw.
+// balance was lost: numbers, not a verdict, so that a user can judge a take we never saw. Session 33 added
+// the plan's own zero-moment point: on the four CMU walks that fall it lay outside the standing soles in
+// 89-100 % of that run (14-63 % of the frames of the 17 that stay up; 0 % for a standing robot shoved).
 #pragma once
 
 #include <string>
@@ -27,18 +29,27 @@ struct BalanceSample {
   double landing_needed = 0;   // m: the largest landing shift a swinging foot needed (uncapped; 0 if none)
   double unexplained_yaw = 0;  // N·m: the yaw moment the controller planned that no sole force gave
   double heading_error = 0;    // deg: the pelvis's heading off the reference's
+  // m: how far outside the standing soles the balance plan's own zero-moment point lay. The plan keeps it
+  // inside the feet where the source has them; outside the soles as they stand, the feet are elsewhere
+  // (landed off their plan, turned, or touching on an edge), and the plan asks for what no feedback can
+  // give: the capture point runs off it at e^(ωt).
+  double plan_shortfall = 0;
+  int support_points = 0;      // the standing soles' points on the floor (1 or 2: a corner or an edge)
 };
 
 // Whether the zero-moment point the feedback wanted lay outside the standing soles, clamped onto their
 // edge (more than 5 mm out: not rounding). Never on a frame with no sole on the floor (its shortfall is 0).
 [[nodiscard]] bool ZmpClamped(const BalanceSample& sample);
+// The same for the balance plan's own zero-moment point.
+[[nodiscard]] bool PlanOffTheSoles(const BalanceSample& sample);
 
 // The summary appended to a fall's message. It finds when the capture point left the balance plan for
 // good (the last frame it was within 5 cm of it) and when it was past a step's reach (`step_cap`, m, the
 // landing shift's cap), and reports over that run: in what share of the frames the zero-moment point it
-// needed lay outside the standing soles, the largest landing shift the steps under way needed, the share
-// of it both feet stayed planted with no step under way, the largest yaw moment no sole gave and the
-// largest heading error. Empty when there are no samples.
+// needed lay outside the standing soles, and the plan's own; the share the soles stood on an edge or a
+// corner; the largest landing shift the steps under way needed, the share of it both feet stayed planted
+// with no step under way, the largest yaw moment no sole gave and the largest heading error. Empty when
+// there are no samples.
 [[nodiscard]] std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_cap);
 
 }  // namespace syn

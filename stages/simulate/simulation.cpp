@@ -161,7 +161,8 @@ std::string SimulateSummary::FullReport() const {
           << " of " << frames << " frames, by up to " << balance_largest_zmp_correction_m * 1000
           << " mm; the body above the legs shifted up to " << balance_largest_shift_m * 1000 << " mm";
       out << "\n  balance: the zero-moment point the capture point needed lay outside the standing soles in "
-          << clamped_frames << " of the " << balancing_frames << " frames with a sole on the floor";
+          << clamped_frames << " of the " << balancing_frames << " frames with a sole on the floor, and the balance plan's own"
+          << " (the standing soles not where the plan had the feet) in " << plan_off_frames;
     }
   }
   out << "\n  " << message;
@@ -409,10 +410,11 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   }
   summary.frames = frames;
   if (balance_controller) {
-    summary.balancing_frames = summary.clamped_frames = 0;
+    summary.balancing_frames = summary.clamped_frames = summary.plan_off_frames = 0;
     for (const BalanceSample& sample : balance_samples) {
       summary.balancing_frames += sample.balancing ? 1 : 0;
       summary.clamped_frames += ZmpClamped(sample) ? 1 : 0;
+      summary.plan_off_frames += PlanOffTheSoles(sample) ? 1 : 0;
     }
   }
   if (ground) {

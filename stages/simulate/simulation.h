@@ -105,6 +105,9 @@ struct SimulateSummary {
   // (clamped onto their edge: the feedback short of authority; fall_diagnosis.h).
   int64_t balancing_frames = -1;
   int64_t clamped_frames = -1;
+  // ... and those where the balance plan's own zero-moment point lay outside the standing soles (the feet
+  // not where the plan had them; fall_diagnosis.h).
+  int64_t plan_off_frames = -1;
 
   std::string BriefReport() const;
   std::string FullReport() const;

@@ -15,7 +15,8 @@ constexpr double kCap = 0.3;
 
 // 100 frames at 100 Hz: on the plan until 0.5 s, then off it by 6.5 cm growing 1 m/s (past the 0.3 m cap
 // at 0.74 s) with the zero-moment point clamped; standing on both feet unless `stepping`, whose step needs
-// a landing shift of `landing` m; yaw moments of 30 N·m on the plan and 200 N·m in the collapse past 0.9 s.
+// a landing shift of `landing` m; yaw moments of 30 N·m on the plan and 200 N·m in the collapse past 0.9 s;
+// the standing soles flat on the floor (eight points, four while one foot swings), the plan's zero-moment point on them.
 std::vector<BalanceSample> History(bool stepping, double landing) {
   std::vector<BalanceSample> samples;
   for (int i = 0; i < 100; ++i) {
@@ -29,6 +30,7 @@ std::vector<BalanceSample> History(bool stepping, double landing) {
     sample.landing_needed = sample.stepping ? landing : 0.0;
     sample.unexplained_yaw = sample.time > 0.9 ? -200.0 : 30.0;
     sample.heading_error = sample.time > 0.9 ? 90.0 : -12.0;
+    sample.support_points = stepping && sample.time > 0.5 ? 4 : 8;  // flat soles
     samples.push_back(sample);
   }
   return samples;
@@ -46,6 +48,20 @@ TEST(FallDiagnosis, StandingWithNoStepToTake) {
   // The run's yaw and heading, not the collapse's.
   EXPECT_TRUE(Has(text, "up to 30 N·m of the yaw moment")) << text;
   EXPECT_TRUE(Has(text, "up to 12 deg off the reference's heading")) << text;
+  // The plan's own zero-moment point stayed on the feet, and they stood flat.
+  EXPECT_TRUE(Has(text, "the balance plan's own in 0 %")) << text;
+  EXPECT_FALSE(Has(text, "corner")) << text;
+}
+
+// The feet not where the plan had them (its own zero-moment point off the standing soles from frame 63)
+// and, from frame 69, standing on an edge: shares of the 24 frames of the run (51-74), not of the collapse.
+TEST(FallDiagnosis, ThePlanOffTheFeetAndTheSolesOnAnEdge) {
+  std::vector<BalanceSample> samples = History(false, 0);
+  for (size_t i = 63; i < samples.size(); ++i) samples[i].plan_shortfall = 0.03;
+  for (size_t i = 69; i < samples.size(); ++i) samples[i].support_points = 2;
+  const std::string text = DescribeFall(samples, kCap);
+  EXPECT_TRUE(Has(text, "the balance plan's own in 50 % (the standing soles were not where the plan had the feet)")) << text;
+  EXPECT_TRUE(Has(text, "at one or two points (a corner or an edge) in 25 %")) << text;
 }
 
 TEST(FallDiagnosis, AStepPastItsCap) {
@@ -92,6 +108,10 @@ TEST(FallDiagnosis, ClampedMeansMoreThanRounding) {
   EXPECT_FALSE(ZmpClamped(sample));
   sample.zmp_shortfall = 0.006;
   EXPECT_TRUE(ZmpClamped(sample));
+  sample.plan_shortfall = 0.004;
+  EXPECT_FALSE(PlanOffTheSoles(sample));
+  sample.plan_shortfall = 0.006;
+  EXPECT_TRUE(PlanOffTheSoles(sample));
 }
 
 }  // namespace
