@@ -91,7 +91,7 @@ struct SimulateSummary {
   int64_t tilted_foot_steps = -1;
   // Ground mode: over the source's contact phases whose foot was held, how far the held sole turned
   // (deg) and its centre moved (mm) from where the phase's first hold found it: median, p95, largest
-  // (StanceFeet::PhaseDrift; syn-retarget's stance drift is the same measure on the kinematic motion).
+  // (StanceFeet::PhaseDrift; syn-retarget reports the like for the kinematic motion, its stance drift).
   int64_t held_phases = -1;
   double held_turn_median_deg = -1, held_turn_p95_deg = -1, held_turn_max_deg = -1;
   double held_move_median_mm = -1, held_move_p95_mm = -1, held_move_max_mm = -1;
