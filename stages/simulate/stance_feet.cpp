@@ -43,12 +43,10 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted) {
     }
     stance.held = hold;
     // The source's phase: it ends when the source lifts the foot.
-    if (stance.planted && planted[f] == 0 && stance.phase_held) {
-      phase_turns_.push_back(stance.phase_turn);
-      phase_moves_.push_back(stance.phase_move);
+    if (planted[f] == 0) {
+      if (stance.phase_held) phase_turns_.push_back(stance.phase_turn), phase_moves_.push_back(stance.phase_move);
+      stance.phase_held = false;
     }
-    if (planted[f] == 0) stance.phase_held = false;
-    stance.planted = planted[f] != 0;
     if (hold && !stance.phase_held) {
       stance.phase_held = true;
       stance.phase_start = centre.head<2>();

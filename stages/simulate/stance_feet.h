@@ -69,9 +69,9 @@ class StanceFeet {
     bool held = false;
     Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  // the sole centre's, on the floor (ground frame)
     double yaw = 0.0;                                  // the heading it touched down with
-    // The source's contact phase: whether one is under way and has been held, the sole centre and heading
-    // at its first hold, and the largest turn and move since.
-    bool planted = false, phase_held = false;
+    // The source's contact phase: whether one under way has been held (so the source planted the foot at
+    // the last update), the sole centre and heading at its first hold, and the largest turn and move since.
+    bool phase_held = false;
     Eigen::Vector2d phase_start = Eigen::Vector2d::Zero();
     double phase_yaw = 0.0, phase_turn = 0.0, phase_move = 0.0;
   };

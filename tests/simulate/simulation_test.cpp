@@ -184,30 +184,37 @@ struct RecordedPhaseDrift {
 RecordedPhaseDrift HeldPhaseDrift(const RobotMap& map, const MotionData& input, const MotionData& output) {
   const testing::IndependentFk fk(SourcePath(testing::kG1Urdf));
   RecordedPhaseDrift drift;
-  const size_t feet = output.contact_feet.size();
-  for (size_t f = 0; f < feet && f < map.feet.size(); ++f) {
+  const size_t feet = std::min(output.contact_feet.size(), map.feet.size());
+  struct Phase {
     Eigen::Vector3d centre_local = Eigen::Vector3d::Zero();
-    for (const std::array<double, 3>& p : map.feet[f].sole_points) centre_local += Eigen::Vector3d(p[0], p[1], p[2]);
-    centre_local /= static_cast<double>(map.feet[f].sole_points.size());
     bool held = false;
     Eigen::Vector2d start = Eigen::Vector2d::Zero();
     double start_yaw = 0, turn = 0, move = 0;
-    for (int64_t t = 0; t <= output.frames(); ++t) {
+  };
+  std::vector<Phase> phases(feet);
+  for (size_t f = 0; f < feet; ++f) {
+    for (const std::array<double, 3>& p : map.feet[f].sole_points) phases[f].centre_local += Eigen::Vector3d(p[0], p[1], p[2]);
+    phases[f].centre_local /= static_cast<double>(map.feet[f].sole_points.size());
+  }
+  for (int64_t t = 0; t <= output.frames(); ++t) {
+    std::map<std::string, Eigen::Isometry3d> poses;  // this frame's, computed once if a foot needs them
+    for (size_t f = 0; f < feet; ++f) {
+      Phase& phase = phases[f];
       const bool planted = t < output.frames() && SourcePlants(input, map.feet[f].side, t);
       if (!planted) {
-        if (held) drift.turns_deg.push_back(turn * 180 / M_PI), drift.moves_mm.push_back(move * 1000);
-        held = false;
+        if (phase.held) drift.turns_deg.push_back(phase.turn * 180 / M_PI), drift.moves_mm.push_back(phase.move * 1000);
+        phase.held = false;
         continue;
       }
-      const bool touching = output.contact[static_cast<size_t>(t) * feet + f] != 0;
-      if (!held && !touching) continue;
-      const Eigen::Isometry3d pose =
-          fk.poses(output.coordinate_names, &output.q[static_cast<size_t>(t * output.nq())], true).at(map.feet[f].link);
-      const Eigen::Vector2d centre = (pose * centre_local).head<2>();
+      const bool touching = output.contact[static_cast<size_t>(t) * output.contact_feet.size() + f] != 0;
+      if (!phase.held && !touching) continue;
+      if (poses.empty()) poses = fk.poses(output.coordinate_names, &output.q[static_cast<size_t>(t * output.nq())], true);
+      const Eigen::Isometry3d& pose = poses.at(map.feet[f].link);
+      const Eigen::Vector2d centre = (pose * phase.centre_local).head<2>();
       const double yaw = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
-      if (!held) held = true, start = centre, start_yaw = yaw, turn = move = 0;
-      turn = std::max(turn, std::abs(std::remainder(yaw - start_yaw, 2 * M_PI)));
-      move = std::max(move, (centre - start).norm());
+      if (!phase.held) phase.held = true, phase.start = centre, phase.start_yaw = yaw, phase.turn = phase.move = 0;
+      phase.turn = std::max(phase.turn, std::abs(std::remainder(yaw - phase.start_yaw, 2 * M_PI)));
+      phase.move = std::max(phase.move, (centre - phase.start).norm());
     }
   }
   return drift;
