@@ -12,6 +12,18 @@ constexpr double kClamped = 0.005;  // m
 constexpr double kOnThePlan = 0.05;
 // m: a landing shift past any leg's reach (a dance's foot held up for a second predicts metres).
 constexpr double kBeyondAnyStep = 1.0;
+// s: the lead-up before the run whose turning the summary also reports (about two steps of a walk).
+constexpr double kLeadUp = 1.0;
+
+// deg: how far the reference's heading ranged over samples [first, last].
+double ReferenceTurn(const std::vector<BalanceSample>& samples, size_t first, size_t last) {
+  double lowest = samples[first].reference_heading, highest = lowest;
+  for (size_t i = first; i <= last; ++i) {
+    lowest = std::min(lowest, samples[i].reference_heading);
+    highest = std::max(highest, samples[i].reference_heading);
+  }
+  return highest - lowest;
+}
 
 }  // namespace
 
@@ -83,6 +95,14 @@ std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_
   out.precision(0);
   out << ", up to " << yaw << " N·m of the yaw moment planned no sole gave and the pelvis turned up to " << heading
       << " deg off the reference's heading";
+  size_t lead_up = onset;
+  while (lead_up > 0 && samples[lead_up - 1].time >= samples[onset].time - kLeadUp) --lead_up;
+  out << "; the reference itself turned " << ReferenceTurn(samples, onset, lost) << " deg over that run";
+  if (lead_up < onset) {
+    out << " and " << ReferenceTurn(samples, lead_up, onset) << " deg in the ";
+    out.precision(2);
+    out << samples[onset].time - samples[lead_up].time << " s before it";
+  }
   if (last + 1 < samples.size()) {
     out.precision(2);
     out << "; no sole on the floor after t = " << samples[last].time << " s";

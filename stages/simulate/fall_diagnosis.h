@@ -29,6 +29,10 @@ struct BalanceSample {
   double landing_needed = 0;   // m: the largest landing shift a swinging foot needed (uncapped; 0 if none)
   double unexplained_yaw = 0;  // N·m: the yaw moment the controller planned that no sole force gave
   double heading_error = 0;    // deg: the pelvis's heading off the reference's
+  // deg: the reference's own heading, unwrapped (continuous over the take). Three of the four CMU walks
+  // that fall are the shared walks that turn most (235-892 deg per take; the 17 that stay up 8-51 deg),
+  // and lost the plan as a turn began (03_04), during one (09_12) or after a half turn (03_03).
+  double reference_heading = 0;
   // m: how far outside the standing soles the balance plan's own zero-moment point lay. The plan keeps it
   // inside the feet where the source has them; outside the soles as they stand, the feet are elsewhere
   // (landed off their plan, turned, or touching on an edge), and the plan asks for what no feedback can
@@ -48,8 +52,8 @@ struct BalanceSample {
 // landing shift's cap), and reports over that run: in what share of the frames the zero-moment point it
 // needed lay outside the standing soles, and the plan's own; the share the soles stood on an edge or a
 // corner; the largest landing shift the steps under way needed, the share of it both feet stayed planted
-// with no step under way, the largest yaw moment no sole gave and the largest heading error. Empty when
-// there are no samples.
+// with no step under way, the largest yaw moment no sole gave and the largest heading error; and how far
+// the reference itself turned over the run and over the second before it. Empty when there are no samples.
 [[nodiscard]] std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_cap);
 
 }  // namespace syn

@@ -3,6 +3,7 @@
 // and extremes it quotes are those of that run, not of the collapse after it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,18 @@ TEST(FallDiagnosis, ThePlanOffTheFeetAndTheSolesOnAnEdge) {
   const std::string text = DescribeFall(samples, kCap);
   EXPECT_TRUE(Has(text, "the balance plan's own in 50 % (the standing soles were not where the plan had the feet)")) << text;
   EXPECT_TRUE(Has(text, "at one or two points (a corner or an edge) in 25 %")) << text;
+}
+
+// The reference turning: 60 deg/s from 0.2 s on (past 360 deg, so an unwrapped heading is needed),
+// against the run 0.51-0.74 s (14 deg) and the second before it (here all of 0-0.51 s: 19 deg).
+TEST(FallDiagnosis, HowFarTheReferenceTurned) {
+  std::vector<BalanceSample> samples = History(false, 0);
+  for (BalanceSample& sample : samples) sample.reference_heading = 350.0 + 60.0 * std::max(0.0, sample.time - 0.2);
+  const std::string text = DescribeFall(samples, kCap);
+  EXPECT_TRUE(Has(text, "the reference itself turned 14 deg over that run and 19 deg in the 0.51 s before it")) << text;
+  // A reference walking straight: 0 deg, however far its heading is from zero.
+  for (BalanceSample& sample : samples) sample.reference_heading = -170.0;
+  EXPECT_TRUE(Has(DescribeFall(samples, kCap), "turned 0 deg over that run and 0 deg in the 0.51 s before it"));
 }
 
 TEST(FallDiagnosis, AStepPastItsCap) {
