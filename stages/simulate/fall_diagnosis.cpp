@@ -15,12 +15,14 @@ constexpr double kBeyondAnyStep = 1.0;
 // s: the lead-up before the run whose turning the summary also reports (about two steps of a walk).
 constexpr double kLeadUp = 1.0;
 
-// deg: how far the reference's heading ranged over samples [first, last].
+// deg: how far the reference's heading ranged over samples [first, last], unwrapped (a turn through
+// ±180 deg counts as the turn it is: frames are far closer than half a turn apart).
 double ReferenceTurn(const std::vector<BalanceSample>& samples, size_t first, size_t last) {
-  double lowest = samples[first].reference_heading, highest = lowest;
-  for (size_t i = first; i <= last; ++i) {
-    lowest = std::min(lowest, samples[i].reference_heading);
-    highest = std::max(highest, samples[i].reference_heading);
+  double heading = 0, lowest = 0, highest = 0;
+  for (size_t i = first + 1; i <= last; ++i) {
+    heading += std::remainder(samples[i].reference_heading - samples[i - 1].reference_heading, 360.0);
+    lowest = std::min(lowest, heading);
+    highest = std::max(highest, heading);
   }
   return highest - lowest;
 }

@@ -29,7 +29,7 @@ struct BalanceSample {
   double landing_needed = 0;   // m: the largest landing shift a swinging foot needed (uncapped; 0 if none)
   double unexplained_yaw = 0;  // N·m: the yaw moment the controller planned that no sole force gave
   double heading_error = 0;    // deg: the pelvis's heading off the reference's
-  // deg: the reference's own heading, unwrapped (continuous over the take). Three of the four CMU walks
+  // deg: the reference's own heading (the summary unwraps it). Three of the four CMU walks
   // that fall are the shared walks that turn most (235-892 deg per take; the 17 that stay up 8-51 deg),
   // and lost the plan as a turn began (03_04), during one (09_12) or after a half turn (03_03).
   double reference_heading = 0;

@@ -336,7 +336,6 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   std::vector<BalanceSample> balance_samples;
   if (balance_controller) balance_samples.reserve(static_cast<size_t>(frames));
   double unexplained_force_sq = 0, unexplained_torque_sq = 0;
-  double reference_heading = 0, last_reference_yaw = 0;  // rad: the reference's heading, unwrapped
   for (int64_t t = 0; t < frames; ++t) {
     // The interval to the next frame in equal steps of at most 1/rate (the last frame: one nominal step,
     // used only by the ground's implicit contact terms at the recorded state).
@@ -366,12 +365,9 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
         BalanceSample sample = balance_controller->state();
         sample.time = input.time_s[static_cast<size_t>(t)];
         sample.unexplained_yaw = unexplained[2];
-        const double turned = BaseYaw(q.data()) - BaseYaw(&input.q[static_cast<size_t>(t * nq)]);
-        sample.heading_error = std::remainder(turned, 2 * M_PI) * kDegreesPerRadian;
         const double reference_yaw = BaseYaw(&input.q[static_cast<size_t>(t * nq)]);
-        reference_heading += balance_samples.empty() ? reference_yaw : std::remainder(reference_yaw - last_reference_yaw, 2 * M_PI);
-        last_reference_yaw = reference_yaw;
-        sample.reference_heading = reference_heading * kDegreesPerRadian;
+        sample.heading_error = std::remainder(BaseYaw(q.data()) - reference_yaw, 2 * M_PI) * kDegreesPerRadian;
+        sample.reference_heading = reference_yaw * kDegreesPerRadian;
         balance_samples.push_back(sample);
       }
       std::copy(unexplained.data(), unexplained.data() + 6, out.unexplained_wrench.begin() + t * 6);

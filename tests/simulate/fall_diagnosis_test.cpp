@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -65,11 +66,14 @@ TEST(FallDiagnosis, ThePlanOffTheFeetAndTheSolesOnAnEdge) {
   EXPECT_TRUE(Has(text, "at one or two points (a corner or an edge) in 25 %")) << text;
 }
 
-// The reference turning: 60 deg/s from 0.2 s on (past 360 deg, so an unwrapped heading is needed),
-// against the run 0.51-0.74 s (14 deg) and the second before it (here all of 0-0.51 s: 19 deg).
+// The reference turning: 60 deg/s from 0.2 s on, its heading given in (-180, 180] and crossing 180 deg at
+// 0.37 s (so the summary must unwrap it), against the run 0.51-0.74 s (14 deg) and the second before it
+// (here all of 0-0.51 s: 19 deg).
 TEST(FallDiagnosis, HowFarTheReferenceTurned) {
   std::vector<BalanceSample> samples = History(false, 0);
-  for (BalanceSample& sample : samples) sample.reference_heading = 350.0 + 60.0 * std::max(0.0, sample.time - 0.2);
+  for (BalanceSample& sample : samples) {
+    sample.reference_heading = std::remainder(170.0 + 60.0 * std::max(0.0, sample.time - 0.2), 360.0);
+  }
   const std::string text = DescribeFall(samples, kCap);
   EXPECT_TRUE(Has(text, "the reference itself turned 14 deg over that run and 19 deg in the 0.51 s before it")) << text;
   // A reference walking straight: 0 deg, however far its heading is from zero.
