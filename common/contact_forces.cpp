@@ -65,6 +65,7 @@ ContactForceSplit::ContactForceSplit(const Model& model, const std::vector<Robot
   const int max_columns = MaxColumns(feet_);
   jacobian_.resize(6, model.nu());
   columns_.resize(6, max_columns);
+  weighted_columns_.resize(6, max_columns);
   column_foot_.resize(static_cast<size_t>(max_columns));
   column_point_.resize(static_cast<size_t>(max_columns));
   weights_.resize(max_columns);
@@ -96,7 +97,7 @@ void ContactForceSplit::split(Workspace& workspace, const Eigen::VectorXd& u, co
 }
 
 void ContactForceSplit::fit(Workspace& workspace, const Eigen::VectorXd& u, const Eigen::Matrix<double, 6, 1>& wanted,
-                            const int64_t* planted, ContactForceFrame& out) {
+                            const int64_t* planted, ContactForceFrame& out, const Eigen::Matrix<double, 6, 1>& row_weights) {
   out.foot_force.resize(feet_.size());
   for (Eigen::Vector3d& force : out.foot_force) force.setZero();
   out.point_force.resize(point_count_);
@@ -136,8 +137,11 @@ void ContactForceSplit::fit(Workspace& workspace, const Eigen::VectorXd& u, cons
   }
   // The fit decides what the soles explain (unique: the projection onto their cone); among the splits
   // that explain it, the least-norm one, so that each foot's share is unique and continuous in time.
-  nonnegative_fit_.solve(columns_.leftCols(n), out.residual, weights_.head(n));
-  least_norm_.solve(columns_.leftCols(n), weights_.head(n));
+  // Weighted rows scale the fit's error per component; the least-norm step keeps the fitted wrench, which
+  // scaling rows does not change.
+  weighted_columns_.leftCols(n).noalias() = row_weights.asDiagonal() * columns_.leftCols(n);
+  nonnegative_fit_.solve(weighted_columns_.leftCols(n), row_weights.cwiseProduct(out.residual), weights_.head(n));
+  least_norm_.solve(weighted_columns_.leftCols(n), weights_.head(n));
   out.unexplained = out.residual - columns_.leftCols(n) * weights_.head(n);
   for (int c = 0; c < n; ++c) {
     out.foot_force[static_cast<size_t>(column_foot_[static_cast<size_t>(c)])] += weights_(c) * columns_.col(c).tail<3>();

@@ -64,9 +64,12 @@ class ContactForceSplit {
              ContactForceFrame& out);
 
   // The same fit for a given wrench `wanted` (about the centre of mass, ground frame) instead of one read
-  // from τ_b: out.residual = wanted, out.unexplained = what the sole forces leave of it.
+  // from τ_b: out.residual = wanted, out.unexplained = what the sole forces leave of it. `row_weights`
+  // (moment x, y, z, force x, y, z): the fit minimises Σ (w_i e_i)² over the unexplained part e, so where the
+  // soles cannot explain the whole wrench, a component weighted more is left out less (syn-simulate's
+  // --moment-weight; split() and the default weigh N·m against N one to one).
   void fit(Workspace& workspace, const Eigen::VectorXd& u, const Eigen::Matrix<double, 6, 1>& wanted, const int64_t* planted,
-           ContactForceFrame& out);
+           ContactForceFrame& out, const Eigen::Matrix<double, 6, 1>& row_weights = Eigen::Matrix<double, 6, 1>::Ones());
 
   // X with W = X τ_b: the wrench about the centre of mass (ground frame) that generalized forces τ_b on the
   // base's unactuated velocities (in the model's order) amount to, at the workspace's q. X = J_b⁻ᵀ.
@@ -82,6 +85,7 @@ class ContactForceSplit {
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
   Eigen::Matrix<double, 6, 1> foot_twist_;
   NonnegativeLeastSquares::Rows columns_;  // one per edge per sole point in contact
+  NonnegativeLeastSquares::Rows weighted_columns_;  // the same, rows scaled by fit()'s row weights
   std::vector<int> column_foot_;
   std::vector<int> column_point_;  // the column's sole point, numbered as ContactForceFrame::point_force
   size_t point_count_ = 0;

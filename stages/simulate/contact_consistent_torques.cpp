@@ -23,6 +23,7 @@ ContactConsistentTorques::ContactConsistentTorques(const Model& model, const std
   for (int i = 0; i < model.nu(); ++i) {
     if (!model.actuatedVelocities()[static_cast<size_t>(i)]) unactuated_.push_back(i);
   }
+  fit_row_weights_ << Eigen::Vector3d::Constant(consistent.moment_weight), Eigen::Vector3d::Ones();
   const int nu = model.nu();
   jacobian_.resize(6, nu);
   hessian_.resize(nu, nu);
@@ -54,7 +55,7 @@ int ContactConsistentTorques::apply(Workspace& workspace, const Eigen::MatrixXd&
   }
   wrench_rows_.noalias() = to_wrench * base_rows_;
   const Eigen::Matrix<double, 6, 1> wanted = wrench_rows_ * free_udot_ + to_wrench * base_bias;
-  split_.fit(workspace, workspace.getU(), wanted, planted, planned_);
+  split_.fit(workspace, workspace.getU(), wanted, planted, planned_, fit_row_weights_);
   // The constrained minimum: u̇ = u̇_free + H⁻¹ Pᵀ (P H⁻¹ Pᵀ)⁻¹ (w − W(u̇_free)), w the fitted wrench.
   response_ = hessian_solver_.solve(wrench_rows_.transpose());
   const Eigen::Matrix<double, 6, 6> compliance = wrench_rows_ * response_;

@@ -71,6 +71,11 @@ int main(int argc, char** argv) {
                  "Ground mode: how far (m) inside the feet the balance plan keeps its zero-moment point (each "
                  "support-polygon vertex moved this far toward its centroid), room for the capture-point feedback")
       ->capture_default_str();
+  app.add_option("--moment-weight", options.moment_weight,
+                 "Ground mode: where the soles cannot give the whole base wrench the controller plans, how much the "
+                 "planned sole forces favour its moments over its force (1: N·m against N one to one; a brisk walk "
+                 "that tips over may stay up at 2, at some cost to others: README)")
+      ->capture_default_str();
   std::string fall_record;
   app.add_option("--fall-record", fall_record,
                  "Ground mode: when the robot falls, write the frames simulated before the fall to this motion file "

@@ -108,6 +108,9 @@ bool SimulateOptions::IsValid(std::string* error) const {
   if (!(support_margin >= 0 && support_margin <= 0.1)) {
     return fail("--support-margin must be in [0, 0.1] m, got " + std::to_string(support_margin));
   }
+  if (!(moment_weight > 0 && moment_weight <= 100)) {
+    return fail("--moment-weight must be in (0, 100], got " + std::to_string(moment_weight));
+  }
   if (contact == ContactMode::kGround && integrator != Integrator::kSemiImplicitEuler) {
     return fail("--contact ground needs --integrator euler (the friction anchors move once per step)");
   }
@@ -128,7 +131,7 @@ nlohmann::json SimulateOptions::ToJson() const {
           {"integrator", std::string(IntegratorName(integrator))},
           {"no_balance", !balance},
           {"balance_gain", balance_gain}, {"step_adjustment", step_adjustment},
-          {"swing_lift", swing_lift}, {"support_margin", support_margin}};
+          {"swing_lift", swing_lift}, {"support_margin", support_margin}, {"moment_weight", moment_weight}};
 }
 
 std::string SimulateSummary::BriefReport() const {
@@ -202,7 +205,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     ground_contact.emplace(model, map.feet, GroundContactOptions{});
     ContactForceOptions planned;
     planned.max_height = kPlannedForceHeight;
-    distribution.emplace(model, map.feet, planned, options.controller.effort_limits);
+    distribution.emplace(model, map.feet, planned, options.controller.effort_limits,
+                         ContactConsistentOptions{.moment_weight = options.moment_weight});
     stance_feet.emplace(model, map.feet, StanceFeetOptions{.touch_height = kPlannedContactHeight});
     stance_feet->reservePhases(static_cast<size_t>(input.frames()) * map.feet.size());
     for (size_t f = 0; f < map.feet.size(); ++f) {

@@ -19,6 +19,7 @@
 #include "common/motion_file.h"
 #include "common/robot_map.h"
 #include "stages/simulate/balanced_reference.h"
+#include "stages/simulate/contact_consistent_torques.h"
 #include "stages/simulate/fixed_step_integrator.h"
 #include "stages/simulate/operational_space_controller.h"
 #include "stages/simulate/task_references.h"
@@ -57,6 +58,9 @@ struct SimulateOptions {
   // balance_controller.h (mean; the defaults' count in brackets): margin 0.005: (13); 0.01: 14.88 (14);
   // 0.015: (14); 0.02: 15.25 (15); 0.025: 16.25 (17); 0.03: 16.12 (15); 0.04: 16.50 (16); 0.05: 15.75 (16).
   double support_margin = BalanceOptions{}.margin;
+  // Ground mode: how much the planned sole forces favour the base wrench's moments over its force where the
+  // soles cannot give both (ContactConsistentOptions::moment_weight; 1: N·m against N one to one).
+  double moment_weight = ContactConsistentOptions{}.moment_weight;
 
   bool IsValid(std::string* error) const;
   nlohmann::json ToJson() const;

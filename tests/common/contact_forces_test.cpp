@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -216,6 +217,49 @@ TEST_F(ContactForces, StandingStillOnAVirtualBaseChain) {
     for (const double y : {0.05, -0.05}) foot.sole_points.push_back({-0.12, y, -0.08});
   }
   ExpectStandingCarriesWeight(model, map);
+}
+
+// A wrench the soles cannot carry (a pitching moment far past what the feet's length allows, with a
+// sideways push): the row weights decide which part the fit leaves out. Each fit is the best in its own
+// weighting, so it leaves less of its own weighted error than the other; weighting the tilting moments
+// leaves less of them unexplained and more of the force. Weights of one are the unweighted fit exactly.
+TEST_F(ContactForces, RowWeightsDecideWhatAnOverloadedStanceLeavesOut) {
+  const Model model = G1();
+  const RobotMap map = G1Map();
+  Workspace workspace(model);
+  const Eigen::VectorXd still = Eigen::VectorXd::Zero(model.nu());
+  StandingStillForces(model, map, workspace);
+  ContactForceSplit split(model, map.feet, {});
+  const std::vector<int64_t> planted(map.feet.size(), 1);
+  const double weight = model.totalMass() * model.gravity();
+  Wrench wanted;
+  wanted << 0.0, 150.0, 0.0, 0.0, 0.3 * weight, weight;  // 150 N·m about y: the soles reach about ±35
+  ContactForceFrame plain, weighted, ones;
+  split.fit(workspace, still, wanted, planted.data(), plain);
+  Wrench tilt_first;
+  tilt_first << 3.0, 3.0, 1.0, 1.0, 1.0, 1.0;
+  split.fit(workspace, still, wanted, planted.data(), weighted, tilt_first);
+  split.fit(workspace, still, wanted, planted.data(), ones, Wrench::Ones());
+  std::printf("overloaded stance, unexplained tilting moment / force: one to one %.1f N·m / %.1f N, tilt weighted 3 %.1f N·m / %.1f N\n",
+              plain.unexplained.head<2>().norm(), plain.unexplained.tail<3>().norm(), weighted.unexplained.head<2>().norm(),
+              weighted.unexplained.tail<3>().norm());
+  EXPECT_EQ(ones.unexplained, plain.unexplained);
+  ASSERT_GT(plain.unexplained.head<2>().norm(), 50.0) << "the moment is past what the soles carry";
+  EXPECT_LT(weighted.unexplained.head<2>().norm(), 0.8 * plain.unexplained.head<2>().norm());
+  EXPECT_GT(weighted.unexplained.tail<3>().norm(), plain.unexplained.tail<3>().norm());
+  const auto cost = [](const Wrench& rows, const Wrench& error) { return rows.cwiseProduct(error).squaredNorm(); };
+  EXPECT_LE(cost(tilt_first, weighted.unexplained), cost(tilt_first, plain.unexplained) * (1 + 1e-12));
+  EXPECT_LE(cost(Wrench::Ones(), plain.unexplained), cost(Wrench::Ones(), weighted.unexplained) * (1 + 1e-12));
+  // Both splits are admissible and add up to what they explain.
+  for (const ContactForceFrame* frame : {&plain, &weighted}) {
+    Eigen::Vector3d total = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& force : frame->point_force) {
+      EXPECT_GE(force.z(), 0.0);
+      EXPECT_LE(force.head<2>().norm(), 0.8 * force.z() + 1e-9 * weight);
+      total += force;
+    }
+    EXPECT_LT((total - (frame->residual - frame->unexplained).tail<3>()).norm(), 1e-9 * weight);
+  }
 }
 
 TEST_F(ContactForces, InTheAirNothingIsExplained) {

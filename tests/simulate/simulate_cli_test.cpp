@@ -29,6 +29,12 @@ TEST(SimulateCli, BadRateIsAUsageError) {
   EXPECT_NE(result.output.find("--rate must be in [10, 100000] Hz, got 0"), std::string::npos) << result.output;
 }
 
+TEST(SimulateCli, NonPositiveMomentWeightIsAUsageError) {
+  const CommandResult result = RunCommand(Tool() + " in.motion.h5 -o out.motion.h5 --contact ground --moment-weight 0");
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("--moment-weight must be in (0, 100], got 0"), std::string::npos) << result.output;
+}
+
 TEST(SimulateCli, UnknownContactModeIsAUsageError) {
   const CommandResult result = RunCommand(Tool() + " in.motion.h5 -o out.motion.h5 --contact moon");
   EXPECT_EQ(result.exit_code, 2) << result.output;
@@ -88,11 +94,11 @@ TEST(SimulateCli, AFallLeavesNoOutputButItsRecord) {
 }
 
 TEST(SimulateCli, PrintParametersGivesEveryFlag) {
-  const CommandResult result = RunCommandStdout(BinPath("syn-simulate") + " --print-parameters --kp 300 --no-effort-limits --balance-gain 2");
+  const CommandResult result = RunCommandStdout(BinPath("syn-simulate") + " --print-parameters --kp 300 --no-effort-limits --balance-gain 2 --moment-weight 1.5");
   ASSERT_EQ(result.exit_code, 0);
   EXPECT_EQ(result.output,
             "{\"balance_gain\":2.0,\"contact\":\"none\",\"damping\":0.001,\"floating_base\":\"auto\",\"independence_cutoff\":0.7,"
-            "\"integrator\":\"euler\",\"kp\":300.0,\"kv\":25.0,\"limit_frequency\":100.0,\"no_balance\":false,\"no_effort_limits\":true,"
+            "\"integrator\":\"euler\",\"kp\":300.0,\"kv\":25.0,\"limit_frequency\":100.0,\"moment_weight\":1.5,\"no_balance\":false,\"no_effort_limits\":true,"
             "\"no_joint_limits\":false,\"rate\":1000.0,\"step_adjustment\":0.3,\"support_margin\":0.025,\"swing_lift\":0.04,\"targets\":\"kinematic\"}\n");
 }
 
