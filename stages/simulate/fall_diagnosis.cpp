@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <vector>
+
+#include "common/percentile.h"
 
 namespace syn {
 namespace {
@@ -62,6 +65,7 @@ std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_
   if (past_reach) out << " and was past a step's reach (" << step_cap << " m) at t = " << samples[lost].time << " s";
   int frames = 0, clamped = 0, planted_still = 0, plan_off = 0, on_an_edge = 0;
   double shortfall = 0, landing = 0, yaw = 0, heading = 0;
+  std::vector<double> tilt;
   for (size_t i = onset; i <= lost; ++i) {
     const BalanceSample& sample = samples[i];
     ++frames;
@@ -72,6 +76,7 @@ std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_
     shortfall = std::max(shortfall, sample.zmp_shortfall);
     landing = std::max(landing, sample.landing_needed);
     yaw = std::max(yaw, std::abs(sample.unexplained_yaw));
+    tilt.push_back(sample.unexplained_tilt);
     heading = std::max(heading, std::abs(sample.heading_error));
   }
   if (past_reach) {
@@ -95,8 +100,9 @@ std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_
   }
   if (planted_still > 0) out << ", both feet stayed planted in the source for " << 100 * planted_still / frames << " % of it";
   out.precision(0);
-  out << ", up to " << yaw << " N·m of the yaw moment planned no sole gave and the pelvis turned up to " << heading
-      << " deg off the reference's heading";
+  out << ", up to " << *std::max_element(tilt.begin(), tilt.end()) << " N·m of the tilting moment planned no sole gave (median "
+      << NearestRankPercentile(tilt, 0.5) << ") and up to " << yaw
+      << " N·m of the yaw moment, and the pelvis turned up to " << heading << " deg off the reference's heading";
   size_t lead_up = onset;
   while (lead_up > 0 && samples[lead_up - 1].time >= samples[onset].time - kLeadUp) --lead_up;
   out << "; the reference itself turned " << ReferenceTurn(samples, onset, lost) << " deg over that run";

@@ -28,6 +28,10 @@ struct BalanceSample {
   bool stepping = false;       // a foot was swinging toward a touchdown of the source's
   double landing_needed = 0;   // m: the largest landing shift a swinging foot needed (uncapped; 0 if none)
   double unexplained_yaw = 0;  // N·m: the yaw moment the controller planned that no sole force gave
+  // N·m: the same for the tilting moment (about the horizontal axes through the centre of mass). The 17 CMU
+  // walks that stay up leave 10-50 N·m of it out (median over the run); CMU 07_12, which tips forward, 92 N·m
+  // over its first 0.7 s (session 35; syn-simulate --moment-weight trades it against the force).
+  double unexplained_tilt = 0;
   double heading_error = 0;    // deg: the pelvis's heading off the reference's
   // deg: the reference's own heading (the summary unwraps it). Three of the four CMU walks
   // that fall are the shared walks that turn most (235-892 deg per take; the 17 that stay up 8-51 deg),
@@ -52,7 +56,8 @@ struct BalanceSample {
 // landing shift's cap), and reports over that run: in what share of the frames the zero-moment point it
 // needed lay outside the standing soles, and the plan's own; the share the soles stood on an edge or a
 // corner; the largest landing shift the steps under way needed, the share of it both feet stayed planted
-// with no step under way, the largest yaw moment no sole gave and the largest heading error; and how far
+// with no step under way, the tilting moment no sole gave (largest and median), the largest yaw moment no
+// sole gave and the largest heading error; and how far
 // the reference itself turned over the run and over the second before it. Empty when there are no samples.
 [[nodiscard]] std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_cap);
 

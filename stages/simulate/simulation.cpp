@@ -369,6 +369,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
         BalanceSample sample = balance_controller->state();
         sample.time = input.time_s[static_cast<size_t>(t)];
         sample.unexplained_yaw = unexplained[2];
+        sample.unexplained_tilt = unexplained.head<2>().norm();
         const double reference_yaw = BaseYaw(&input.q[static_cast<size_t>(t * nq)]);
         sample.heading_error = std::remainder(BaseYaw(q.data()) - reference_yaw, 2 * M_PI) * kDegreesPerRadian;
         sample.reference_heading = reference_yaw * kDegreesPerRadian;

@@ -17,7 +17,8 @@ constexpr double kCap = 0.3;
 
 // 100 frames at 100 Hz: on the plan until 0.5 s, then off it by 6.5 cm growing 1 m/s (past the 0.3 m cap
 // at 0.74 s) with the zero-moment point clamped; standing on both feet unless `stepping`, whose step needs
-// a landing shift of `landing` m; yaw moments of 30 N·m on the plan and 200 N·m in the collapse past 0.9 s;
+// a landing shift of `landing` m; yaw moments of 30 N·m on the plan and 200 N·m in the collapse past 0.9 s,
+// tilting moments of 100 N·m per second of time (the run's 24 frames 51-74 N·m), 900 N·m in the collapse;
 // the standing soles flat on the floor (eight points, four while one foot swings), the plan's zero-moment point on them.
 std::vector<BalanceSample> History(bool stepping, double landing) {
   std::vector<BalanceSample> samples;
@@ -31,6 +32,7 @@ std::vector<BalanceSample> History(bool stepping, double landing) {
     sample.stepping = stepping && sample.time > 0.5;
     sample.landing_needed = sample.stepping ? landing : 0.0;
     sample.unexplained_yaw = sample.time > 0.9 ? -200.0 : 30.0;
+    sample.unexplained_tilt = sample.time > 0.9 ? 900.0 : 100.0 * sample.time;
     sample.heading_error = sample.time > 0.9 ? 90.0 : -12.0;
     sample.support_points = stepping && sample.time > 0.5 ? 4 : 8;  // flat soles
     samples.push_back(sample);
@@ -49,6 +51,8 @@ TEST(FallDiagnosis, StandingWithNoStepToTake) {
   EXPECT_FALSE(Has(text, "landing")) << text;
   // The run's yaw and heading, not the collapse's.
   EXPECT_TRUE(Has(text, "up to 30 N·m of the yaw moment")) << text;
+  // Nearest rank round(0.5 × 23) = 12 of the run's sorted 51-74 N·m: 63.
+  EXPECT_TRUE(Has(text, "up to 74 N·m of the tilting moment planned no sole gave (median 63)")) << text;
   EXPECT_TRUE(Has(text, "up to 12 deg off the reference's heading")) << text;
   // The plan's own zero-moment point stayed on the feet, and they stood flat.
   EXPECT_TRUE(Has(text, "the balance plan's own in 0 %")) << text;
