@@ -57,8 +57,8 @@ struct BalanceSample {
 // needed lay outside the standing soles, and the plan's own; the share the soles stood on an edge or a
 // corner; the largest landing shift the steps under way needed, the share of it both feet stayed planted
 // with no step under way, the tilting moment no sole gave (largest and median), the largest yaw moment no
-// sole gave and the largest heading error; and how far
-// the reference itself turned over the run and over the second before it. Empty when there are no samples.
+// sole gave and the largest heading error; and how far the reference itself turned over the run and over
+// the second before it. Empty when there are no samples.
 [[nodiscard]] std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_cap);
 
 }  // namespace syn
