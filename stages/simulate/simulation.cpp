@@ -43,6 +43,33 @@ double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return 2.0 * std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized()))));
 }
 
+// Per map foot and frame: NaN where the source does not plant it (or has no contact column for it, -1
+// in `contact_column`), else the heading of the reference's foot link (its x axis about the vertical) at
+// the frame that began the planted run.
+std::vector<std::vector<double>> TouchdownHeadings(const MotionData& input, const Model& model, const RobotMap& map,
+                                                   const std::vector<int>& contact_column) {
+  const size_t frames = static_cast<size_t>(input.frames()), columns = input.contact_feet.size();
+  std::vector<std::vector<double>> heading(map.feet.size(), std::vector<double>(frames, std::numeric_limits<double>::quiet_NaN()));
+  Workspace workspace(model);
+  const int nq = model.nq();
+  for (size_t f = 0; f < map.feet.size(); ++f) {
+    const int column = contact_column[f];
+    if (column < 0) continue;
+    const int link = model.findLinkIndex(map.feet[f].link);
+    double phase_heading = std::numeric_limits<double>::quiet_NaN();
+    for (size_t t = 0; t < frames; ++t) {
+      if (input.contact[t * columns + static_cast<size_t>(column)] == 0) continue;
+      if (t == 0 || input.contact[(t - 1) * columns + static_cast<size_t>(column)] == 0) {
+        workspace.setQ(Eigen::Map<const Eigen::VectorXd>(&input.q[t * static_cast<size_t>(nq)], nq));
+        const Eigen::Matrix3d rotation = workspace.findLinkPose(link).linear();
+        phase_heading = std::atan2(rotation(1, 0), rotation(0, 0));
+      }
+      heading[f][t] = phase_heading;
+    }
+  }
+  return heading;
+}
+
 // The tasks' errors at the current state: to the motion's landmark targets (stored, as syn-retarget
 // stores them) and to the references the controller tracks (summarised for priority 1).
 void MeasureErrors(Workspace& workspace, const std::vector<ControlledTask>& tasks, const MotionData& input, int64_t t,
@@ -159,6 +186,9 @@ std::string SimulateSummary::FullReport() const {
         << " them: turned " << held_turn_median_deg << " deg median, " << held_turn_p95_deg << " p95, " << held_turn_max_deg
         << " at most; sole centre moved " << held_move_median_mm << " mm median, " << held_move_p95_mm << " p95, "
         << held_move_max_mm << " at most";
+    out << "\n  landings: the first hold of " << landings << " phases turned " << landing_turn_median_deg
+        << " deg median from the reference's heading at the source's touchdown, " << landing_turn_p95_deg << " p95, "
+        << landing_turn_max_deg << " at most";
     if (balance_corrected_frames >= 0) {
       out << "\n  balance plan: the reference's zero-moment point moved into the feet in " << balance_corrected_frames
           << " of " << frames << " frames, by up to " << balance_largest_zmp_correction_m * 1000
@@ -215,6 +245,12 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       }
     }
   }
+  // Ground mode: per map foot and frame the source plants it, the heading (rad) the reference motion gives
+  // that foot at the touchdown that began the phase (NaN elsewhere): what StanceFeet measures a landing
+  // against.
+  std::vector<std::vector<double>> touchdown_heading;
+  std::vector<double> reference_heading(map.feet.size(), std::numeric_limits<double>::quiet_NaN());
+  if (ground) touchdown_heading = TouchdownHeadings(input, model, map, contact_column);
   BalanceShift balance;
   std::optional<BalanceController> balance_controller;
   if (ground && options.balance) {
@@ -286,7 +322,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       planted[f] = c < 0 ? 0 : input.contact[static_cast<size_t>(frame) * input.contact_feet.size() + static_cast<size_t>(c)];
     }
     if (stance_feet) {
-      if (stance_feet->update(workspace, planted.data()) > 0) {
+      for (size_t f = 0; f < planted.size(); ++f) reference_heading[f] = touchdown_heading[f][static_cast<size_t>(frame)];
+      if (stance_feet->update(workspace, planted.data(), reference_heading.data()) > 0) {
         controller.setStanceLevel(stance_feet->jacobian(), stance_feet->acceleration());
       } else {
         controller.clearStanceLevel();
@@ -434,6 +471,10 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     summary.held_move_median_mm = drift.median_move * 1000;
     summary.held_move_p95_mm = drift.p95_move * 1000;
     summary.held_move_max_mm = drift.largest_move * 1000;
+    summary.landings = drift.landings;
+    summary.landing_turn_median_deg = drift.median_landing_turn * kDegreesPerRadian;
+    summary.landing_turn_p95_deg = drift.p95_landing_turn * kDegreesPerRadian;
+    summary.landing_turn_max_deg = drift.largest_landing_turn * kDegreesPerRadian;
     summary.unexplained_force_rms_n = std::sqrt(unexplained_force_sq / static_cast<double>(frames));
     summary.unexplained_torque_rms_nm = std::sqrt(unexplained_torque_sq / static_cast<double>(frames));
   }

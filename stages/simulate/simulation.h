@@ -99,6 +99,11 @@ struct SimulateSummary {
   int64_t held_phases = -1;
   double held_turn_median_deg = -1, held_turn_p95_deg = -1, held_turn_max_deg = -1;
   double held_move_median_mm = -1, held_move_p95_mm = -1, held_move_max_mm = -1;
+  // Ground mode: over the held phases whose source touchdown the reference gives a heading, how far (deg,
+  // either way) the sole's heading at the phase's first hold was from the reference foot's at that
+  // touchdown: median, p95, largest (StanceFeet::PhaseDrift). The plan moves landings, never turns them.
+  int64_t landings = -1;
+  double landing_turn_median_deg = -1, landing_turn_p95_deg = -1, landing_turn_max_deg = -1;
   // Ground mode with balance: the frames whose reference zero-moment point the plan moved into the feet,
   // the largest such move and the largest shift of the body above the legs (m).
   int64_t balance_corrected_frames = -1;

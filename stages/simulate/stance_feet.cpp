@@ -26,7 +26,7 @@ StanceFeet::StanceFeet(const Model& model, const std::vector<RobotFoot>& feet, c
   foot_jacobian_.resize(6, model.nu());
 }
 
-int StanceFeet::update(Workspace& workspace, const int64_t* planted) {
+int StanceFeet::update(Workspace& workspace, const int64_t* planted, const double* reference_heading) {
   int held = 0;
   for (size_t f = 0; f < stance_.size(); ++f) {
     const Eigen::Isometry3d& pose = pose_[f] = workspace.findLinkPose(foot_links_[f]);
@@ -52,6 +52,9 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted) {
       stance.phase_start = centre.head<2>();
       stance.phase_yaw = yaw;
       stance.phase_turn = stance.phase_move = 0.0;
+      if (reference_heading != nullptr && std::isfinite(reference_heading[f])) {
+        landing_turns_.push_back(std::abs(std::remainder(yaw - reference_heading[f], 2 * M_PI)));
+      }
     }
     if (stance.phase_held) {
       stance.phase_turn = std::max(stance.phase_turn, std::abs(std::remainder(yaw - stance.phase_yaw, 2 * M_PI)));
@@ -91,6 +94,7 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted) {
 void StanceFeet::reservePhases(size_t phases) {
   phase_turns_.reserve(phases);
   phase_moves_.reserve(phases);
+  landing_turns_.reserve(phases);
 }
 
 StanceFeet::PhaseDrift StanceFeet::phaseDrift() const {
@@ -99,6 +103,12 @@ StanceFeet::PhaseDrift StanceFeet::phaseDrift() const {
     if (stance.phase_held) turns.push_back(stance.phase_turn), moves.push_back(stance.phase_move);
   }
   PhaseDrift drift;
+  drift.landings = static_cast<int64_t>(landing_turns_.size());
+  if (!landing_turns_.empty()) {
+    drift.largest_landing_turn = *std::max_element(landing_turns_.begin(), landing_turns_.end());
+    drift.median_landing_turn = NearestRankPercentile(landing_turns_, 0.5);
+    drift.p95_landing_turn = NearestRankPercentile(landing_turns_, 0.95);
+  }
   drift.phases = static_cast<int64_t>(turns.size());
   if (turns.empty()) return drift;
   drift.largest_turn = *std::max_element(turns.begin(), turns.end());

@@ -35,8 +35,10 @@ class StanceFeet {
   StanceFeet(const Model& model, const std::vector<RobotFoot>& feet, const StanceFeetOptions& options);
 
   // For the state the workspace holds (setQ, setU done) and the source's contact flags `planted` [feet]:
-  // which feet are held, and their rows. Returns how many feet are held.
-  int update(Workspace& workspace, const int64_t* planted);
+  // which feet are held, and their rows. Returns how many feet are held. `reference_heading` [feet], if
+  // given: the heading (rad) the reference motion gives each planted foot at the source's touchdown that
+  // began its phase (NaN for none), against which a phase's first hold is measured (phaseDrift).
+  int update(Workspace& workspace, const int64_t* planted, const double* reference_heading = nullptr);
 
   // After update: [6 × held] rows (angular then linear, per held foot) and their wanted accelerations
   // minus the velocity terms.
@@ -59,6 +61,11 @@ class StanceFeet {
     int64_t phases = 0;
     double median_turn = 0, p95_turn = 0, largest_turn = 0;  // rad
     double median_move = 0, p95_move = 0, largest_move = 0;  // m
+    // The phases whose first hold had a reference heading, and how far (rad, either way) the sole's heading
+    // was from it then: where the foot landed turned. The balance plan moves a landing (capture-point
+    // stepping) but never turns it, so this is the swing's and the touchdown's error.
+    int64_t landings = 0;
+    double median_landing_turn = 0, p95_landing_turn = 0, largest_landing_turn = 0;  // rad
   };
   PhaseDrift phaseDrift() const;
   // Room for `phases` finished phases, so that update() does not allocate.
@@ -86,6 +93,7 @@ class StanceFeet {
   Eigen::VectorXd acceleration_;
   int64_t held_foot_steps_ = 0, tilted_foot_steps_ = 0;
   std::vector<double> phase_turns_, phase_moves_;  // per finished phase that was held
+  std::vector<double> landing_turns_;              // per phase whose first hold had a reference heading
 };
 
 }  // namespace syn

@@ -45,11 +45,18 @@ class HeldPhases : public ::testing::Test {
     return (workspace.findLinkPose(model.findLinkIndex(map.feet[foot].link)) * centre).head<2>();
   }
 
-  int Update(StanceFeet& feet, const Eigen::VectorXd& q, int64_t planted) {
+  int Update(StanceFeet& feet, const Eigen::VectorXd& q, int64_t planted, const double* reference_heading = nullptr) {
     workspace.setQ(q);
     workspace.setU(Eigen::VectorXd::Zero(model.nu()));  // at rest (the hold's rows need the velocities set)
     const int64_t flags[2] = {planted, planted};
-    return feet.update(workspace, flags);
+    return feet.update(workspace, flags, reference_heading);
+  }
+
+  // A foot's heading (its link's x axis about the vertical) for q.
+  double Heading(const Eigen::VectorXd& q, size_t foot) {
+    workspace.setQ(q);
+    const Eigen::Matrix3d rotation = workspace.findLinkPose(model.findLinkIndex(map.feet[foot].link)).linear();
+    return std::atan2(rotation(1, 0), rotation(0, 0));
   }
 
   Model model;
@@ -95,6 +102,33 @@ TEST_F(HeldPhases, ACreepAcrossALapsedHoldCountsFromThePhasesStart) {
   EXPECT_NEAR(drift.largest_move, 0.012, 1e-9);
   EXPECT_NEAR(drift.median_move, 0.012, 1e-9);
   EXPECT_NEAR(drift.largest_turn, 0.0, 1e-9);
+}
+
+// A landing is measured once, at its phase's first hold, against the reference's heading for that phase:
+// the turn either way across ±180°, what the foot does later in the phase not counted, and a phase the
+// reference gives no heading (NaN) not a landing.
+TEST_F(HeldPhases, ALandingIsMeasuredAtItsFirstHoldAgainstTheReferenceHeading) {
+  StanceFeet feet(model, map.feet, StanceFeetOptions{});
+  feet.reservePhases(8);
+  const double degree = M_PI / 180.0;
+  const Eigen::VectorXd turned = Moved(170 * degree, Eigen::Vector3d::Zero());
+  // The left foot's reference 25° short of where it landed, the right's 15° past it across ±180°.
+  const double references[2] = {Heading(turned, 0) - 25 * degree, std::remainder(Heading(turned, 1) + 15 * degree, 2 * M_PI)};
+  ASSERT_GT(std::abs(Heading(turned, 1)) + 15 * degree, M_PI) << "the right foot's reference should wrap";
+  EXPECT_EQ(Update(feet, turned, 1, references), 2);
+  EXPECT_EQ(Update(feet, Moved(175 * degree, Eigen::Vector3d::Zero()), 1, references), 2);  // turns on while held
+  StanceFeet::PhaseDrift drift = feet.phaseDrift();
+  EXPECT_EQ(drift.landings, 2);
+  EXPECT_NEAR(drift.largest_landing_turn, 25 * degree, 1e-9);
+  EXPECT_NEAR(drift.median_landing_turn, 25 * degree, 1e-9);  // nearest rank of two (index round(0.5)): the upper
+  EXPECT_NEAR(drift.largest_turn, 5 * degree, 1e-9);
+  // Lifted, and put down where the reference gives no heading: a held phase, not a landing.
+  EXPECT_EQ(Update(feet, turned, 0, references), 0);
+  const double none[2] = {std::nan(""), std::nan("")};
+  EXPECT_EQ(Update(feet, turned, 1, none), 2);
+  drift = feet.phaseDrift();
+  EXPECT_EQ(drift.phases, 4);
+  EXPECT_EQ(drift.landings, 2);
 }
 
 // A phase the robot never stood in (the sole stayed up) is not a held phase.
