@@ -43,28 +43,28 @@ double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return 2.0 * std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized()))));
 }
 
-// Per map foot and frame: NaN where the source does not plant it (or has no contact column for it, -1
-// in `contact_column`), else the heading of the reference's foot link (its x axis about the vertical) at
-// the frame that began the planted run.
-std::vector<std::vector<double>> TouchdownHeadings(const MotionData& input, const Model& model, const RobotMap& map,
-                                                   const std::vector<int>& contact_column) {
-  const size_t frames = static_cast<size_t>(input.frames()), columns = input.contact_feet.size();
-  std::vector<std::vector<double>> heading(map.feet.size(), std::vector<double>(frames, std::numeric_limits<double>::quiet_NaN()));
+// Per frame and map foot (frame-major, as the source's contact flags): NaN where the source does not plant
+// the foot (or has no contact column for it, -1 in `contact_column`), else the heading of the reference's
+// foot link at the frame that began the planted run.
+std::vector<double> TouchdownHeadings(const MotionData& input, const Model& model, const RobotMap& map,
+                                      const std::vector<int>& contact_column) {
+  const size_t frames = static_cast<size_t>(input.frames()), columns = input.contact_feet.size(), feet = map.feet.size();
+  std::vector<double> heading(frames * feet, std::numeric_limits<double>::quiet_NaN());
   Workspace workspace(model);
   const int nq = model.nq();
-  for (size_t f = 0; f < map.feet.size(); ++f) {
+  for (size_t f = 0; f < feet; ++f) {
     const int column = contact_column[f];
     if (column < 0) continue;
     const int link = model.findLinkIndex(map.feet[f].link);
+    const auto planted = [&](size_t t) { return input.contact[t * columns + static_cast<size_t>(column)] != 0; };
     double phase_heading = std::numeric_limits<double>::quiet_NaN();
     for (size_t t = 0; t < frames; ++t) {
-      if (input.contact[t * columns + static_cast<size_t>(column)] == 0) continue;
-      if (t == 0 || input.contact[(t - 1) * columns + static_cast<size_t>(column)] == 0) {
+      if (!planted(t)) continue;
+      if (t == 0 || !planted(t - 1)) {
         workspace.setQ(Eigen::Map<const Eigen::VectorXd>(&input.q[t * static_cast<size_t>(nq)], nq));
-        const Eigen::Matrix3d rotation = workspace.findLinkPose(link).linear();
-        phase_heading = std::atan2(rotation(1, 0), rotation(0, 0));
+        phase_heading = Heading(workspace.findLinkPose(link).linear());
       }
-      heading[f][t] = phase_heading;
+      heading[t * feet + f] = phase_heading;
     }
   }
   return heading;
@@ -245,11 +245,10 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       }
     }
   }
-  // Ground mode: per map foot and frame the source plants it, the heading (rad) the reference motion gives
+  // Ground mode: per frame and map foot the source plants it, the heading (rad) the reference motion gives
   // that foot at the touchdown that began the phase (NaN elsewhere): what StanceFeet measures a landing
   // against.
-  std::vector<std::vector<double>> touchdown_heading;
-  std::vector<double> reference_heading(map.feet.size(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> touchdown_heading;
   if (ground) touchdown_heading = TouchdownHeadings(input, model, map, contact_column);
   BalanceShift balance;
   std::optional<BalanceController> balance_controller;
@@ -322,8 +321,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       planted[f] = c < 0 ? 0 : input.contact[static_cast<size_t>(frame) * input.contact_feet.size() + static_cast<size_t>(c)];
     }
     if (stance_feet) {
-      for (size_t f = 0; f < planted.size(); ++f) reference_heading[f] = touchdown_heading[f][static_cast<size_t>(frame)];
-      if (stance_feet->update(workspace, planted.data(), reference_heading.data()) > 0) {
+      if (stance_feet->update(workspace, planted.data(), &touchdown_heading[static_cast<size_t>(frame) * map.feet.size()]) > 0) {
         controller.setStanceLevel(stance_feet->jacobian(), stance_feet->acceleration());
       } else {
         controller.clearStanceLevel();

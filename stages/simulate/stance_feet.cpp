@@ -35,7 +35,7 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted, const doubl
     const bool hold = planted[f] != 0 && lowest <= options_.touch_height;
     Stance& stance = stance_[f];
     const Eigen::Vector3d centre = pose * sole_centre_[f];
-    const double yaw = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+    const double yaw = Heading(pose.linear());
     if (hold && !stance.held) {
       stance.anchor = centre;
       stance.anchor.z() = 0.0;

@@ -30,6 +30,10 @@ struct StanceFeetOptions {
   double off_flat = 3.0 * M_PI / 180.0;  // rad: a held sole tilted more is counted (tiltedFootSteps)
 };
 
+// The heading of a rotation: its x axis's direction about the vertical (rad). What StanceFeet holds a foot
+// at, and what its landings are measured with on both sides.
+[[nodiscard]] inline double Heading(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0), rotation(0, 0)); }
+
 class StanceFeet {
  public:
   StanceFeet(const Model& model, const std::vector<RobotFoot>& feet, const StanceFeetOptions& options);
