@@ -104,17 +104,19 @@ void ParseJointBody(Tokens& tokens, std::vector<BvhJoint>& joints, int index, in
     tokens.expect("}");
     return;
   }
-  std::string_view token = tokens.expectAny("CHANNELS, JOINT, End or }");
-  if (token == "CHANNELS") {
-    const double count = tokens.number("a channel count");
-    if (count < 0 || count > 6 || count != std::floor(count)) tokens.fail("a joint has 0 to 6 channels");
-    joints[static_cast<size_t>(index)].first_channel = channel_count;
-    for (int i = 0; i < static_cast<int>(count); ++i) {
-      joints[static_cast<size_t>(index)].channels.push_back(ParseChannel(tokens.expectAny("a channel name"), tokens));
-    }
-    channel_count += static_cast<int>(count);
-    token = tokens.expectAny("JOINT, End or }");
+  // The format gives every ROOT and JOINT a CHANNELS line; a joint with none would be an End Site. Holding
+  // to that keeps the bodies posed per frame within twice the values a frame line carries (each joint has a
+  // channel, each End Site a joint of its own), so a reader's work grows with the file, not past it.
+  tokens.expect("CHANNELS");
+  const double count = tokens.number("a channel count");
+  if (count < 1 || count > 6 || count != std::floor(count)) tokens.fail("a joint has 1 to 6 channels");
+  joints[static_cast<size_t>(index)].first_channel = channel_count;
+  for (int i = 0; i < static_cast<int>(count); ++i) {
+    joints[static_cast<size_t>(index)].channels.push_back(ParseChannel(tokens.expectAny("a channel name"), tokens));
   }
+  channel_count += static_cast<int>(count);
+  std::string_view token = tokens.expectAny("JOINT, End or }");
+  bool has_end_site = false;
   while (token != "}") {
     BvhJoint child;
     child.parent = index;
@@ -122,6 +124,9 @@ void ParseJointBody(Tokens& tokens, std::vector<BvhJoint>& joints, int index, in
       child.name = std::string(tokens.expectAny("a joint name"));
     } else if (token == "End") {
       tokens.expect("Site");
+      // Its body is named after the joint: a second one would be a second body of the same name.
+      if (has_end_site) tokens.fail("a joint has at most one End Site");
+      has_end_site = true;
       child.end_site = true;
       child.name = joints[static_cast<size_t>(index)].name + "_end";
     } else {
@@ -269,7 +274,7 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
   ++line;
   const int64_t frames_wanted = static_cast<int64_t>(declared_frames);
   // Each value needs at least 2 bytes ("0 "): refuse counts the text cannot hold before allocating.
-  if (channel_count > 0 && frames_wanted > static_cast<int64_t>(rest.size() / (2 * static_cast<size_t>(channel_count))) + 1) {
+  if (frames_wanted > static_cast<int64_t>(rest.size() / (2 * static_cast<size_t>(channel_count))) + 1) {
     throw DataError(Location::AtLine(source_name, line),
                     "the header declares " + std::to_string(frames_wanted) + " frames but the file is too short for them");
   }

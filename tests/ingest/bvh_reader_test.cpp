@@ -362,6 +362,21 @@ TEST(BvhReader, MalformedInputIsLocated) {
   EXPECT_GT(ErrorLine(With(text, "Frames: 2", "Frames: 999999999999")), 0);
 }
 
+// The format's grammar, held to so that reading costs what the file holds: a joint without CHANNELS (the
+// fuzzer's find: a hierarchy of none, a blank frame line, a read past an empty frame buffer) or a second End
+// Site on one joint (a second body of the same name) is refused at its line.
+TEST(BvhReader, JointsNeedChannelsAndAtMostOneEndSite) {
+  const std::string text = kTwoBones;
+  // The root without its CHANNELS line (line 5): JOINT comes where CHANNELS is expected.
+  EXPECT_EQ(ErrorLine(With(text, "  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n", "")), 5);
+  // No channel anywhere, frames of blank lines.
+  EXPECT_EQ(ErrorLine("HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\n}\nMOTION\nFrames: 1\nFrame Time: 0.01\n\n\n"), 5);
+  EXPECT_EQ(ErrorLine(With(text, "CHANNELS 3 Zrotation Xrotation Yrotation", "CHANNELS 0")), 9);
+  // Two End Sites on the arm: the second's "Site" (line 14).
+  EXPECT_EQ(ErrorLine(With(text, "      OFFSET 5 0 0\n    }\n", "      OFFSET 5 0 0\n    }\n    End Site\n    {\n      OFFSET 5 0 0\n    }\n")),
+            14);
+}
+
 // Same numbers, NaN equal to NaN (missing stays missing).
 bool SameValues(const std::vector<double>& a, const std::vector<double>& b) {
   if (a.size() != b.size()) return false;
