@@ -42,6 +42,9 @@ BalanceController::BalanceController(const Model& model, const RobotMap& map, co
   was_planted_.assign(foot_links_.size(), true);
   swing_start_.assign(foot_links_.size(), 0.0);
   landing_shift_.assign(foot_links_.size(), Eigen::Vector2d::Zero());
+  foot_position_.assign(foot_links_.size(), Eigen::Vector2d::Zero());
+  landing_aim_.assign(foot_links_.size(), Eigen::Vector2d::Zero());
+  aimed_.assign(foot_links_.size(), false);
   standing_.assign(foot_links_.size(), false);
   jacobian_.resize(6, model.nu());
   // Which base velocities translate the base: their columns of its Jacobian have no angular part (a free
@@ -80,6 +83,7 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
   support_.clear();
   for (size_t f = 0; f < foot_links_.size(); ++f) {
     const Eigen::Isometry3d pose = workspace.findLinkPose(foot_links_[f]);
+    foot_position_[f] = pose.translation().head<2>();
     touching_[f].clear();
     for (const Eigen::Vector3d& local : sole_points_[f]) {
       const Eigen::Vector3d point = pose * local;
@@ -170,6 +174,10 @@ void BalanceController::step(double now, size_t frame, const int64_t* planted, c
     if (foot_tasks_[f] < 0) continue;
     if (planted[f] != 0) {
       if (!was_planted_[f]) plan_offset_ += landing_shift_[f];  // it landed: the plan walks on from there
+      if (aimed_[f]) {
+        state_.landing_miss = std::max(state_.landing_miss, (foot_position_[f] - landing_aim_[f]).norm());
+        aimed_[f] = false;
+      }
       landing_shift_[f].setZero();
       was_planted_[f] = true;
       continue;
@@ -195,6 +203,8 @@ void BalanceController::step(double now, size_t frame, const int64_t* planted, c
     foot.position.z() += options_.swing_lift * std::sin(phase);
     foot.velocity[5] += options_.swing_lift * M_PI / duration * std::cos(phase);
     foot.acceleration[5] -= options_.swing_lift * (M_PI / duration) * (M_PI / duration) * std::sin(phase);
+    landing_aim_[f] = foot.position.head<2>() + plan_offset_;
+    aimed_[f] = true;
   }
   for (TaskReference& reference : references) reference.position.head<2>() += plan_offset_;
 }

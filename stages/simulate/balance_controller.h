@@ -101,6 +101,10 @@ class BalanceController {
   std::vector<bool> was_planted_;
   std::vector<double> swing_start_;
   std::vector<Eigen::Vector2d> landing_shift_;
+  // Per foot, where its link stands at this call (x, y), and where the stepping last aimed it in its swing
+  // (the target with its landing shift, the plan's offset included); `aimed_` until it lands.
+  std::vector<Eigen::Vector2d> foot_position_, landing_aim_;
+  std::vector<bool> aimed_;
   Eigen::Vector2d plan_offset_ = Eigen::Vector2d::Zero();
   void step(double now, size_t frame, const int64_t* planted, const Eigen::Vector2d& capture_error,
             const Eigen::Vector2d& zmp_plan, double omega, std::vector<TaskReference>& references);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include "common/percentile.h"
@@ -110,6 +111,21 @@ std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_
     out << " and " << ReferenceTurn(samples, lead_up, onset) << " deg in the ";
     out.precision(2);
     out << samples[onset].time - samples[lead_up].time << " s before it";
+  }
+  std::vector<double> misses;
+  for (size_t i = lead_up; i <= lost; ++i) {
+    if (samples[i].landing_miss >= 0) misses.push_back(samples[i].landing_miss);
+  }
+  if (!misses.empty()) {
+    out.precision(2);
+    out << "; " << (misses.size() == 1 ? "the foot" : "the " + std::to_string(misses.size()) + " feet") << " that landed between t = "
+        << samples[lead_up].time << " and " << samples[lost].time << " s stood ";
+    if (misses.size() == 1) {
+      out << misses[0] << " m from where the stepping aimed it";
+    } else {
+      out << "up to " << *std::max_element(misses.begin(), misses.end()) << " m from where the stepping aimed them (median "
+          << NearestRankPercentile(misses, 0.5) << " m)";
+    }
   }
   if (last + 1 < samples.size()) {
     out.precision(2);

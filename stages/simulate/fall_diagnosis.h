@@ -43,6 +43,11 @@ struct BalanceSample {
   // give: the capture point runs off it at e^(ωt).
   double plan_shortfall = 0;
   int support_points = 0;      // the standing soles' points on the floor (1 or 2: a corner or an edge)
+  // m: at the frame a swinging foot landed (the source planted it again), how far its link stood from where
+  // the stepping last aimed it (the reference's landing plus the landing shift); negative where no foot
+  // landed. CMU 07_12's second step landed 0.20 m short of its aim: its heel touched 86 ms before the
+  // source's touchdown, and friction held it while the aim ran on (session 37).
+  double landing_miss = -1;
 };
 
 // Whether the zero-moment point the feedback wanted lay outside the standing soles, clamped onto their
@@ -58,7 +63,8 @@ struct BalanceSample {
 // corner; the largest landing shift the steps under way needed, the share of it both feet stayed planted
 // with no step under way, the tilting moment no sole gave (largest and median), the largest yaw moment no
 // sole gave and the largest heading error; and how far the reference itself turned over the run and over
-// the second before it. Empty when there are no samples.
+// the second before it, and how far the feet that landed from that second to the end of the run stood
+// from where the stepping aimed them. Empty when there are no samples.
 [[nodiscard]] std::string DescribeFall(const std::vector<BalanceSample>& samples, double step_cap);
 
 }  // namespace syn

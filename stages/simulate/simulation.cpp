@@ -1,5 +1,6 @@
 #include "stages/simulate/simulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -9,6 +10,7 @@
 
 #include "common/error.h"
 #include "common/motion_integration.h"
+#include "common/percentile.h"
 #include "stages/simulate/balance_controller.h"
 #include "stages/simulate/contact_consistent_torques.h"
 #include "stages/simulate/fall_diagnosis.h"
@@ -196,6 +198,11 @@ std::string SimulateSummary::FullReport() const {
       out << "\n  balance: the zero-moment point the capture point needed lay outside the standing soles in "
           << clamped_frames << " of the " << balancing_frames << " frames with a sole on the floor, and the balance plan's own"
           << " (the standing soles not where the plan had the feet) in " << plan_off_frames;
+    }
+    if (aimed_landings >= 0) {
+      out << "\n  landing aims: " << aimed_landings << " feet landed " << landing_miss_median_mm << " mm median from where"
+          << " the stepping aimed them at the source's touchdown, " << landing_miss_p95_mm << " p95, " << landing_miss_max_mm
+          << " at most";
     }
   }
   out << "\n  " << message;
@@ -452,10 +459,20 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   summary.frames = frames;
   if (balance_controller) {
     summary.balancing_frames = summary.clamped_frames = summary.plan_off_frames = 0;
+    std::vector<double> misses;
     for (const BalanceSample& sample : balance_samples) {
       summary.balancing_frames += sample.balancing ? 1 : 0;
       summary.clamped_frames += ZmpClamped(sample) ? 1 : 0;
       summary.plan_off_frames += PlanOffTheSoles(sample) ? 1 : 0;
+      if (sample.landing_miss >= 0) misses.push_back(sample.landing_miss * 1000);
+    }
+    if (options.step_adjustment > 0) {
+      summary.aimed_landings = static_cast<int64_t>(misses.size());
+      if (!misses.empty()) {
+        summary.landing_miss_median_mm = NearestRankPercentile(misses, 0.5);
+        summary.landing_miss_p95_mm = NearestRankPercentile(misses, 0.95);
+        summary.landing_miss_max_mm = *std::max_element(misses.begin(), misses.end());
+      }
     }
   }
   if (ground) {

@@ -104,6 +104,10 @@ struct SimulateSummary {
   // touchdown: median, p95, largest (StanceFeet::PhaseDrift). The plan moves landings, never turns them.
   int64_t landings = -1;
   double landing_turn_median_deg = -1, landing_turn_p95_deg = -1, landing_turn_max_deg = -1;
+  // Ground mode with stepping: over the landings of swings the stepping aimed (BalanceSample::landing_miss),
+  // how far (mm) the foot's link stood from its aim at the source's touchdown: median, p95, largest.
+  int64_t aimed_landings = -1;
+  double landing_miss_median_mm = -1, landing_miss_p95_mm = -1, landing_miss_max_mm = -1;
   // Ground mode with balance: the frames whose reference zero-moment point the plan moved into the feet,
   // the largest such move and the largest shift of the body above the legs (m).
   int64_t balance_corrected_frames = -1;

@@ -96,6 +96,25 @@ TEST(FallDiagnosis, AStepPastItsCap) {
   EXPECT_TRUE(Has(beyond, "landing shifts of more than 1.00 m")) << beyond;
 }
 
+// Where the feet landed against where the stepping aimed them: the landings from a second before the run
+// to its end (0.30, 0.55 and 0.60 s here), not the collapse's (0.80 s).
+TEST(FallDiagnosis, HowFarTheLandingsStoodFromTheirAims) {
+  std::vector<BalanceSample> samples = History(true, 0.2);
+  samples[30].landing_miss = 0.05;
+  samples[55].landing_miss = 0.08;
+  samples[60].landing_miss = 0.12;
+  samples[80].landing_miss = 0.9;
+  std::string text = DescribeFall(samples, kCap);
+  EXPECT_TRUE(Has(text, "; the 3 feet that landed between t = 0.00 and 0.74 s stood up to 0.12 m from where the stepping aimed "
+                        "them (median 0.08 m)")) << text;
+  samples[30].landing_miss = samples[55].landing_miss = -1;
+  text = DescribeFall(samples, kCap);
+  EXPECT_TRUE(Has(text, "; the foot that landed between t = 0.00 and 0.74 s stood 0.12 m from where the stepping aimed it")) << text;
+  // No landing in that time: nothing said.
+  samples[60].landing_miss = -1;
+  EXPECT_FALSE(Has(DescribeFall(samples, kCap), "landed")) << DescribeFall(samples, kCap);
+}
+
 TEST(FallDiagnosis, OffThePlanFromTheStartAndThenInTheAir) {
   std::vector<BalanceSample> samples = History(false, 0);
   for (BalanceSample& sample : samples) sample.capture_error += 0.2;

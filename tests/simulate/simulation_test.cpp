@@ -174,6 +174,16 @@ double TiltedStanceFraction(const RobotMap& map, const MotionData& input, const 
   return held > 0 ? static_cast<double>(tilted) / static_cast<double>(held) : 0.0;
 }
 
+// The source's touchdowns after a swing: per map foot, the frames it plants that foot after a frame it
+// did not (the stepping aims every swing that ends in one).
+int64_t SourceTouchdowns(const RobotMap& map, const MotionData& input) {
+  int64_t touchdowns = 0;
+  for (const RobotFoot& foot : map.feet) {
+    for (int64_t t = 1; t < input.frames(); ++t) touchdowns += SourcePlants(input, foot.side, t) && !SourcePlants(input, foot.side, t - 1) ? 1 : 0;
+  }
+  return touchdowns;
+}
+
 // Over each contact phase of the source (frames it plants a foot) whose foot the simulated record has on
 // the floor: how far the sole turned about the vertical (deg) and its centre moved horizontally (mm) from
 // the phase's first frame on the floor, as StanceFeet::PhaseDrift measures at the control rate; here at
@@ -584,6 +594,13 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
       // later, and a landing foot can spin fast then (06_01's right foot up to 24 rad/s in its first 40 ms on
       // the floor): session 36, medians within 0.4 deg on 16 of the 17 walks up, 2.0 deg apart on 06_01.
       EXPECT_NEAR(result.summary.landing_turn_median_deg, recorded_landing, 3.0) << trial.name << ": landings' turn against FK of the record";
+      // Where the feet landed against where the stepping aimed them: one landing per source touchdown after
+      // a swing (counted here from the input's contact flags), every swing aimed. Session 37: each walk's
+      // median 8.5-42.5 mm, the largest 158 mm (10_04).
+      EXPECT_EQ(result.summary.aimed_landings, SourceTouchdowns(map, walk)) << trial.name;
+      std::printf("%s: landings %.1f mm median from the stepping's aim (%.1f at most)\n", trial.name.c_str(),
+                  result.summary.landing_miss_median_mm, result.summary.landing_miss_max_mm);
+      EXPECT_LE(result.summary.landing_miss_median_mm, 60.0) << trial.name;
       EXPECT_LE(WorstLimitExcess(model, result.motion), kStopTolerance) << trial.name << ": a joint past its URDF limit";
       // Issue 18: soles never more than 1 cm into the floor; and no contact chatter (with the contact's
       // dissipation at 10 s/m the soles' force switched between 0 and 20-43 kN every step, 13 mm deep).
