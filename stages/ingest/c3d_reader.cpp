@@ -127,10 +127,25 @@ RecordRead ReadRecord(const uint8_t* bytes, size_t size, size_t position, size_t
       body + 2 + static_cast<size_t>(dimension_count) > end) {
     return RecordRead::kRecord;
   }
-  for (int d = 0; d < dimension_count; ++d) parameter.dimensions.push_back(bytes[body + 2 + static_cast<size_t>(d)]);
+  // Up to 255 dimensions of up to 255 each: their product can pass any size_t, and a wrapped count would
+  // pass the bounds check below while its values run past the file (a fuzzer's find). A product over the
+  // file's size cannot fit anyway (a dimension of 0 makes it 0 whatever came before).
+  bool count_fits = true;
+  size_t elements = 1;
+  for (int d = 0; d < dimension_count; ++d) {
+    const size_t dimension = bytes[body + 2 + static_cast<size_t>(d)];
+    parameter.dimensions.push_back(static_cast<int>(dimension));
+    if (dimension == 0) {
+      elements = 0, count_fits = true;
+    } else if (elements > size / dimension) {
+      count_fits = false;
+    } else {
+      elements *= dimension;
+    }
+  }
   parameter.data = bytes + body + 2 + dimension_count;
-  parameter.data_size = parameter.count() * static_cast<size_t>(std::abs(parameter.type));
-  record->parameter_ok = static_cast<size_t>(parameter.data - bytes) + parameter.data_size <= size;
+  parameter.data_size = count_fits ? elements * static_cast<size_t>(std::abs(parameter.type)) : 0;
+  record->parameter_ok = count_fits && static_cast<size_t>(parameter.data - bytes) + parameter.data_size <= size;
   parameter.locked = record->locked;
   if (record->parameter_ok) read_description(static_cast<size_t>(parameter.data - bytes) + parameter.data_size);
   parameter.description = record->description;

@@ -270,7 +270,8 @@ TEST(NpyReader, RefusesWhatIsNotJointPositions) {
   EXPECT_EQ(array.shape[1], 263);
 }
 
-// Inputs the fuzzers found; each must end in a DataError.
+// Inputs the fuzzers found; each must end in a DataError (under the sanitizers: without reading outside
+// the input on the way).
 TEST(FuzzRegressions, EachEndsInADataError) {
   const std::string folder = testing::SourcePath("tests/ingest/regressions");
   int count = 0;
@@ -280,6 +281,11 @@ TEST(FuzzRegressions, EachEndsInADataError) {
     ++count;
     if (entry.path().extension() == ".npy") {
       EXPECT_THROW((void)HumanMl3dJointsToMarkerData(ParseNpy(bytes.data(), bytes.size(), "r.npy"), "r.npy"), DataError);
+    }
+    if (entry.path().extension() == ".c3d") {
+      // c3d_parameter_dimensions_overflow.c3d: a parameter whose dimensions multiply past size_t; the
+      // wrapped count passed the bounds check and its values were read past the end of the file.
+      EXPECT_THROW((void)ParseC3d(bytes.data(), bytes.size(), "r.c3d"), DataError);
     }
     if (entry.path().extension() == ".trc") {
       EXPECT_THROW((void)ParseTrc(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), "r.trc"),
