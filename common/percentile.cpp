@@ -13,4 +13,12 @@ double NearestRankPercentile(std::vector<double> values, double fraction) {
   return values[index];
 }
 
+Spread MedianP95Largest(const std::vector<double>& values) {
+  double largest = std::nan("");
+  for (const double value : values) {
+    if (std::isfinite(value) && !(value <= largest)) largest = value;
+  }
+  return {NearestRankPercentile(values, 0.5), NearestRankPercentile(values, 0.95), largest};
+}
+
 }  // namespace syn

@@ -469,9 +469,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     if (options.step_adjustment > 0) {
       summary.aimed_landings = static_cast<int64_t>(misses.size());
       if (!misses.empty()) {
-        summary.landing_miss_median_mm = NearestRankPercentile(misses, 0.5);
-        summary.landing_miss_p95_mm = NearestRankPercentile(misses, 0.95);
-        summary.landing_miss_max_mm = *std::max_element(misses.begin(), misses.end());
+        const Spread miss = MedianP95Largest(misses);
+        summary.landing_miss_median_mm = miss.median, summary.landing_miss_p95_mm = miss.p95, summary.landing_miss_max_mm = miss.largest;
       }
     }
   }

@@ -105,18 +105,14 @@ StanceFeet::PhaseDrift StanceFeet::phaseDrift() const {
   PhaseDrift drift;
   drift.landings = static_cast<int64_t>(landing_turns_.size());
   if (!landing_turns_.empty()) {
-    drift.largest_landing_turn = *std::max_element(landing_turns_.begin(), landing_turns_.end());
-    drift.median_landing_turn = NearestRankPercentile(landing_turns_, 0.5);
-    drift.p95_landing_turn = NearestRankPercentile(landing_turns_, 0.95);
+    const Spread landing = MedianP95Largest(landing_turns_);
+    drift.median_landing_turn = landing.median, drift.p95_landing_turn = landing.p95, drift.largest_landing_turn = landing.largest;
   }
   drift.phases = static_cast<int64_t>(turns.size());
   if (turns.empty()) return drift;
-  drift.largest_turn = *std::max_element(turns.begin(), turns.end());
-  drift.largest_move = *std::max_element(moves.begin(), moves.end());
-  drift.median_turn = NearestRankPercentile(turns, 0.5);
-  drift.p95_turn = NearestRankPercentile(turns, 0.95);
-  drift.median_move = NearestRankPercentile(moves, 0.5);
-  drift.p95_move = NearestRankPercentile(moves, 0.95);
+  const Spread turn = MedianP95Largest(turns), move = MedianP95Largest(moves);
+  drift.median_turn = turn.median, drift.p95_turn = turn.p95, drift.largest_turn = turn.largest;
+  drift.median_move = move.median, drift.p95_move = move.p95, drift.largest_move = move.largest;
   return drift;
 }
 
