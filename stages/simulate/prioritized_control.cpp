@@ -14,36 +14,57 @@ constexpr double kDroppedRow = 1e-10;
 }  // namespace
 
 void PrioritizedControl::invertKeptRows(SolvedLevel& solved) const {
-  // Pivoted Cholesky of Φ' in place: L in the lower triangle of the first `rank` columns, the Schur
-  // complement of the rows not yet taken (kept whole, so that symmetric swaps stay valid) below right.
+  // Pivoted Cholesky of Φ' in place, left-looking (as LAPACK's dpstf2): L in the lower triangle of the
+  // first `rank` columns; a column of L is formed when its row is taken, from Φ' and the columns before
+  // it, so only the remaining rows' Schur diagonal is updated each step. Rows and columns are swapped
+  // whole, so the part not yet factored stays a symmetric permutation of Φ'.
   solved.unfactored = solved.operational;
   Eigen::MatrixXd& factor = solved.operational;
   const int rows = static_cast<int>(factor.rows());
   solved.kept_rows.resize(static_cast<size_t>(rows));
   std::iota(solved.kept_rows.begin(), solved.kept_rows.end(), 0);
+  solved.schur_diagonal = factor.diagonal();
   int rank = 0;
   for (; rank < rows; ++rank) {
     int next = rank;
     for (int i = rank + 1; i < rows; ++i) {
-      if (factor(i, i) > factor(next, next)) next = i;
+      if (solved.schur_diagonal[i] > solved.schur_diagonal[next]) next = i;
     }
-    if (!(factor(next, next) >= options_.independence_cutoff)) break;
+    if (!(solved.schur_diagonal[next] >= options_.independence_cutoff)) break;
     if (next != rank) {
       factor.row(rank).swap(factor.row(next));
       factor.col(rank).swap(factor.col(next));
+      std::swap(solved.schur_diagonal[rank], solved.schur_diagonal[next]);
       std::swap(solved.kept_rows[static_cast<size_t>(rank)], solved.kept_rows[static_cast<size_t>(next)]);
     }
-    const double pivot = std::sqrt(factor(rank, rank));
+    const double pivot = std::sqrt(solved.schur_diagonal[rank]);
     factor(rank, rank) = pivot;
     const int rest = rows - rank - 1;
+    factor.col(rank).tail(rest).noalias() -= factor.bottomLeftCorner(rest, rank) * factor.row(rank).head(rank).transpose();
     factor.col(rank).tail(rest) /= pivot;
-    factor.bottomRightCorner(rest, rest).noalias() -= factor.col(rank).tail(rest) * factor.col(rank).tail(rest).transpose();
+    solved.schur_diagonal.tail(rest) -= factor.col(rank).tail(rest).cwiseAbs2();
   }
   solved.rank = rank;
-  const auto lower = factor.topLeftCorner(rank, rank).triangularView<Eigen::Lower>();
-  solved.kept_inverse.setIdentity(rank, rank);
-  lower.solveInPlace(solved.kept_inverse);              // L⁻¹
-  lower.transpose().solveInPlace(solved.kept_inverse);  // L⁻ᵀ L⁻¹ = Φ'_KK⁻¹
+  // Φ'_KK⁻¹ = L⁻ᵀ L⁻¹: L⁻¹ column by column (forward substitution from the column's own row: its
+  // entries above are zero), then the lower triangle of the product, each entry a dot product of two
+  // columns' tails. A sixth of m³ each, where solving L X = I and Lᵀ Y = X densely costs m³.
+  const auto lower = factor.topLeftCorner(rank, rank);
+  solved.factor_inverse.setZero(rank, rank);
+  for (int b = 0; b < rank; ++b) {
+    auto column = solved.factor_inverse.col(b);
+    column[b] = 1.0;
+    for (int c = b; c < rank; ++c) {
+      column[c] /= lower(c, c);
+      column.tail(rank - c - 1).noalias() -= lower.col(c).tail(rank - c - 1) * column[c];
+    }
+  }
+  solved.kept_inverse.resize(rank, rank);
+  for (int b = 0; b < rank; ++b) {
+    for (int a = b; a < rank; ++a) {
+      solved.kept_inverse(a, b) = solved.kept_inverse(b, a) =
+          solved.factor_inverse.col(a).tail(rank - a).dot(solved.factor_inverse.col(b).tail(rank - a));
+    }
+  }
   // Λ = D Φ'⁻ D, scattered back from pivot order.
   solved.inertia.setZero(rows, rows);
   solved.kept_residual.resize(rank);
@@ -110,21 +131,15 @@ void PrioritizedControl::calcTorques(Workspace& workspace, const TreeMassFactori
       solved.weighted[j].noalias() = solved.couplings[j] * above.inertia;
       solved.projected.noalias() -= solved.weighted[j] * above.projected;
     }
-    // J_k| A⁻¹ (the transpose of A⁻¹ J_k|ᵀ), by substitution with the factor, every row at once.
+    // J_k| A⁻¹ (the transpose of A⁻¹ J_k|ᵀ), by substitution with the factor, every row at once, and
+    // Φ_k = J_k| A⁻¹ J_k|ᵀ with it. Λ_k = Φ_k⁻. Its rows mix units (1/kg for positions, 1/(kg m²) for a
+    // light hand's rotation: diagonal entries from 0.3 to 10⁵ on G1), so factor the unit-diagonal
+    // Φ' = D Φ D with D = diag(Φ)^(-1/2), whose pivots are fractions whatever the units, and Λ = D Φ'⁻ D
+    // (the exact inverse when every row is kept; a symmetric reflexive generalized inverse otherwise,
+    // which is what keeps the projectors exact). Rows the levels above leave no authority over
+    // (Φ_ii ≈ 0) drop.
     solved.j_minv = solved.projected;
-    mass.solveRowsInPlace(solved.j_minv);
-    // Λ_k = (J_k| A⁻¹ J_k|ᵀ)⁻. Its rows mix units (1/kg for positions, 1/(kg m²) for a light hand's
-    // rotation: diagonal entries from 0.3 to 10⁵ on G1), so factor the unit-diagonal Φ' = D Φ D with
-    // D = diag(Φ)^(-1/2), whose pivots are fractions whatever the units, and Λ = D Φ'⁻ D (the exact
-    // inverse when every row is kept; a symmetric reflexive generalized inverse otherwise, which is
-    // what keeps the projectors exact). Rows the levels above leave no authority over (Φ_ii ≈ 0) drop.
-    solved.operational.resize(rows, rows);
-    solved.operational.noalias() = solved.projected * solved.j_minv.transpose();
-    for (Eigen::Index c = 0; c < rows; ++c) {
-      for (Eigen::Index r = c + 1; r < rows; ++r) {
-        solved.operational(r, c) = solved.operational(c, r) = 0.5 * (solved.operational(r, c) + solved.operational(c, r));
-      }
-    }
+    mass.solveRowsInPlace(solved.j_minv, solved.operational);
     solved.row_scale.resize(rows);
     const double largest_diagonal = rows > 0 ? std::max(0.0, solved.operational.diagonal().maxCoeff()) : 0.0;
     for (Eigen::Index i = 0; i < rows; ++i) {

@@ -29,8 +29,10 @@
 // G1 step, the Cholesky is an eighth of it (see ControllerOptions for the numbers).
 //
 // Cost per call: Σ m_k products A⁻¹ x (substitutions with the caller's sparse factor of A, O(nu · depth)
-// each) and one A x; A is never inverted. Only the m_k × m_k matrices are dense (a Cholesky each). No allocation after the first call
-// with a given level layout.
+// each, Φ_k from their half-way point) and one A x; A is never inverted. Only the m_k × m_k matrices are
+// dense: the pivoted Cholesky, Φ'_KK⁻¹ from its triangular factor (m³/3), and the damped inverse's
+// Cholesky. Session 38 made these three and Φ_k's product symmetric-only: 12.5× → 14.3× real time in
+// paper mode on the 21 CMU walks. No allocation after the first call with a given level layout.
 #pragma once
 
 #include <vector>
@@ -84,6 +86,8 @@ class PrioritizedControl {
     Eigen::MatrixXd operational;     // Φ' = D J_k| A⁻¹ J_k|ᵀ D, then its pivoted Cholesky factor in place
     Eigen::MatrixXd unfactored;      // Φ' as it was, for the damped inverse
     std::vector<int> kept_rows;      // the rows the factorisation took, in pivot order (then the dropped)
+    Eigen::VectorXd schur_diagonal;  // the factorisation's remaining pivots, in pivot order
+    Eigen::MatrixXd factor_inverse;  // L⁻¹ of the kept rows' Cholesky factor
     Eigen::MatrixXd kept_inverse;    // Φ'_KK⁻¹ over the kept rows K, in pivot order
     Eigen::MatrixXd damped;          // Φ'_KK + μ² Φ'_KK⁻¹, whose inverse is the damped inverse
     Eigen::LLT<Eigen::MatrixXd> damped_factor;

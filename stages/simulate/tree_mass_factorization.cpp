@@ -33,6 +33,11 @@ TreeMassFactorization::TreeMassFactorization(const Model& model) : parent_(stati
                              std::to_string(parent_[i]) + ", not numbered before it");
     }
   }
+  ancestor_begin_.push_back(0);
+  for (size_t k = 0; k < parent_.size(); ++k) {
+    for (int i = parent_[k]; i >= 0; i = parent_[static_cast<size_t>(i)]) ancestors_.push_back(i);
+    ancestor_begin_.push_back(static_cast<int>(ancestors_.size()));
+  }
 }
 
 void TreeMassFactorization::factor(Workspace& workspace) {
@@ -48,29 +53,56 @@ void TreeMassFactorization::factor(Workspace& workspace) {
       factor_(k, i) = ratio;
     }
   }
+  inverse_sqrt_d_ = factor_.diagonal().cwiseSqrt().cwiseInverse();
 }
 
 void TreeMassFactorization::solveInPlace(Eigen::VectorXd& x) const {
+  // Lᵀ D L w = x, as one row: RBDA Table 6.4's back substitution, D, and the forward one.
+  solveRowsL(x.data(), 1);
+  for (Eigen::Index k = 0; k < x.size(); ++k) x[k] /= factor_(k, k);
+  solveRowsLTranspose(x.data(), 1);
+}
+
+void TreeMassFactorization::solveRowsL(double* x, Eigen::Index rows) const {
   const int n = static_cast<int>(factor_.rows());
-  // Lᵀ y = x, D z = y, L w = z (RBDA Table 6.4's back and forward substitutions).
   for (int k = n - 1; k >= 0; --k) {
-    for (int i = parent_[static_cast<size_t>(k)]; i >= 0; i = parent_[static_cast<size_t>(i)]) x[i] -= factor_(k, i) * x[k];
+    const double* column_k = x + k * rows;
+    for (int a = ancestor_begin_[static_cast<size_t>(k)]; a < ancestor_begin_[static_cast<size_t>(k) + 1]; ++a) {
+      const int i = ancestors_[static_cast<size_t>(a)];
+      const double l = factor_(k, i);
+      double* column_i = x + i * rows;
+      for (Eigen::Index r = 0; r < rows; ++r) column_i[r] -= l * column_k[r];
+    }
   }
-  for (int k = 0; k < n; ++k) x[k] /= factor_(k, k);
+}
+
+void TreeMassFactorization::solveRowsLTranspose(double* x, Eigen::Index rows) const {
+  const int n = static_cast<int>(factor_.rows());
   for (int k = 0; k < n; ++k) {
-    for (int i = parent_[static_cast<size_t>(k)]; i >= 0; i = parent_[static_cast<size_t>(i)]) x[k] -= factor_(k, i) * x[i];
+    double* column_k = x + k * rows;
+    for (int a = ancestor_begin_[static_cast<size_t>(k)]; a < ancestor_begin_[static_cast<size_t>(k) + 1]; ++a) {
+      const int i = ancestors_[static_cast<size_t>(a)];
+      const double l = factor_(k, i);
+      const double* column_i = x + i * rows;
+      for (Eigen::Index r = 0; r < rows; ++r) column_k[r] -= l * column_i[r];
+    }
   }
 }
 
 void TreeMassFactorization::solveRowsInPlace(Eigen::MatrixXd& x) const {
-  const int n = static_cast<int>(factor_.rows());
-  for (int k = n - 1; k >= 0; --k) {
-    for (int i = parent_[static_cast<size_t>(k)]; i >= 0; i = parent_[static_cast<size_t>(i)]) x.col(i) -= factor_(k, i) * x.col(k);
-  }
-  for (int k = 0; k < n; ++k) x.col(k) /= factor_(k, k);
-  for (int k = 0; k < n; ++k) {
-    for (int i = parent_[static_cast<size_t>(k)]; i >= 0; i = parent_[static_cast<size_t>(i)]) x.col(k) -= factor_(k, i) * x.col(i);
-  }
+  solveRowsL(x.data(), x.rows());
+  for (Eigen::Index k = 0; k < x.cols(); ++k) x.col(k) /= factor_(k, k);
+  solveRowsLTranspose(x.data(), x.rows());
+}
+
+void TreeMassFactorization::solveRowsInPlace(Eigen::MatrixXd& x, Eigen::MatrixXd& gram) const {
+  solveRowsL(x.data(), x.rows());
+  for (Eigen::Index k = 0; k < x.cols(); ++k) x.col(k) *= inverse_sqrt_d_[k];  // W
+  gram.setZero(x.rows(), x.rows());
+  gram.selfadjointView<Eigen::Lower>().rankUpdate(x);
+  gram.triangularView<Eigen::StrictlyUpper>() = gram.transpose();
+  for (Eigen::Index k = 0; k < x.cols(); ++k) x.col(k) *= inverse_sqrt_d_[k];
+  solveRowsLTranspose(x.data(), x.rows());
 }
 
 }  // namespace syn

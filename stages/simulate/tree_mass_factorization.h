@@ -27,6 +27,10 @@ class TreeMassFactorization {
   void solveInPlace(Eigen::VectorXd& x) const;
   // x ← x A⁻¹ (every row of x, nu columns: A is symmetric): for a stack of Jacobian rows, J A⁻¹.
   void solveRowsInPlace(Eigen::MatrixXd& x) const;
+  // The same, and gram ← x A⁻¹ xᵀ of the x given (symmetric, rows × rows): for a stack of task rows, J A⁻¹
+  // and the task-space mobility J A⁻¹ Jᵀ. With A = Lᵀ D L, x A⁻¹ xᵀ = W Wᵀ where W = x L⁻¹ D^(-1/2), the
+  // solve's half-way point: half the work of multiplying x by x A⁻¹, and symmetric to the last bit.
+  void solveRowsInPlace(Eigen::MatrixXd& x, Eigen::MatrixXd& gram) const;
 
   // Parent velocity of each velocity in the tree (-1 at a root): within a multi-dof joint the previous
   // velocity, else the last velocity of the nearest moving ancestor joint.
@@ -35,9 +39,17 @@ class TreeMassFactorization {
   const Eigen::MatrixXd& mass() const { return mass_; }
 
  private:
+  // x ← x L⁻¹ on every row of the column-major rows × nu array x (RBDA Table 6.4's back substitution,
+  // from the leaves in), and x ← x L⁻ᵀ (the forward one, from the root out). A vector is one row.
+  void solveRowsL(double* x, Eigen::Index rows) const;
+  void solveRowsLTranspose(double* x, Eigen::Index rows) const;
   std::vector<int> parent_;
+  // The ancestors of velocity k, nearest first, are ancestors_[ancestor_begin_[k] .. ancestor_begin_[k+1]):
+  // the substitutions walk them per row stack without chasing parent_.
+  std::vector<int> ancestors_, ancestor_begin_;
   Eigen::MatrixXd mass_;
   Eigen::MatrixXd factor_;  // D on the diagonal, L strictly below it (row k, ancestor column i)
+  Eigen::VectorXd inverse_sqrt_d_;  // D^(-1/2)
 };
 
 }  // namespace syn

@@ -649,7 +649,11 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
   // moved by 1-8e-9 either way (16 runs of syn-simulate) 14-17 stay up, mean 15.8. This guards the exact
   // arithmetic of this build: a compiler or Eigen that rounds differently may lower it by up to 3 with no
   // change of behaviour; judge such a failure by the spread, not by this one run.
-  EXPECT_GE(up, 17);
+  // 2026-11-28 (session 38): exactly that. The task inertias' faster arithmetic (Φ from the mass solve's
+  // half-way point, a left-looking pivoted Cholesky, Φ⁻¹ from its triangular factor; the same method)
+  // draws 15 at the defaults: 03_01 and 12_03 fall. The same 16 runs: 14-17, mean 15.81 before (session
+  // 32's figures exactly), 14-17, mean 15.75 after.
+  EXPECT_GE(up, 15);
 }
 
 }  // namespace

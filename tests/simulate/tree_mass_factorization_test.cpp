@@ -1,6 +1,7 @@
 // The sparse LTDL factorisation of the mass matrix against Simbody's own O(n) A⁻¹ operator and A x, on
-// G1 with a free and a welded base at random configurations: every solve must agree to rounding, and
-// the factor's tree must be the URDF's (a wrong parent array gives a wrong A⁻¹ x, not a crash).
+// G1 with a free and a welded base at random configurations: every solve (and the Gram matrix bᵀ A⁻¹ b
+// the controller's task inertia needs) must agree to rounding, and the factor's tree must be the URDF's
+// (a wrong parent array gives a wrong A⁻¹ x, not a crash).
 #include <random>
 
 #include <gtest/gtest.h>
@@ -47,6 +48,14 @@ void ExpectSolvesMatchSimbody(const Model& model, uint32_t seed) {
     Eigen::MatrixXd rows = right_sides.transpose();
     mass.solveRowsInPlace(rows);  // every row at once: bᵀ A⁻¹
     EXPECT_LT((rows.transpose() - reference).norm(), 1e-9 * reference.norm());
+    // With the Gram matrix bᵀ A⁻¹ b, formed from the half-way point of the solve: against the product of
+    // the right sides with Simbody's A⁻¹ b, and symmetric to the last bit.
+    Eigen::MatrixXd gram_rows = right_sides.transpose(), gram;
+    mass.solveRowsInPlace(gram_rows, gram);
+    EXPECT_LT((gram_rows.transpose() - reference).norm(), 1e-9 * reference.norm());
+    const Eigen::MatrixXd gram_reference = right_sides.transpose() * reference;
+    EXPECT_LT((gram - gram_reference).norm(), 1e-9 * gram_reference.norm()) << "trial " << trial;
+    EXPECT_EQ(gram, gram.transpose());
   }
 }
 
