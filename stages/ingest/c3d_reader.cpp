@@ -47,17 +47,12 @@ struct Numbers {
 struct Parameter {
   int type = 0;                  // -1 char, 1 byte, 2 int16, 4 float
   std::vector<int> dimensions;
+  size_t count = 0;              // the product of the dimensions, checked against the file's size when read
   const uint8_t* data = nullptr;
   size_t data_size = 0;
   size_t offset = 0;
   bool locked = false;           // negative name length
   std::string description;
-
-  size_t count() const {
-    size_t n = 1;
-    for (int d : dimensions) n *= static_cast<size_t>(d);
-    return n;
-  }
 };
 
 using Parameters = std::map<std::string, Parameter>;  // "GROUP:NAME"
@@ -144,7 +139,8 @@ RecordRead ReadRecord(const uint8_t* bytes, size_t size, size_t position, size_t
     }
   }
   parameter.data = bytes + body + 2 + dimension_count;
-  parameter.data_size = count_fits ? elements * static_cast<size_t>(std::abs(parameter.type)) : 0;
+  parameter.count = count_fits ? elements : 0;
+  parameter.data_size = parameter.count * static_cast<size_t>(std::abs(parameter.type));
   record->parameter_ok = count_fits && static_cast<size_t>(parameter.data - bytes) + parameter.data_size <= size;
   parameter.locked = record->locked;
   if (record->parameter_ok) read_description(static_cast<size_t>(parameter.data - bytes) + parameter.data_size);
@@ -221,7 +217,7 @@ const Parameter* Find(const Parameters& parameters, const std::string& key) {
 }
 
 double NumberAt(const Parameter& parameter, size_t index, const Numbers& numbers) {
-  if (index >= parameter.count()) return std::nan("");
+  if (index >= parameter.count) return std::nan("");
   switch (parameter.type) {
     case 1: return parameter.data[index];
     case 2: return numbers.int16(parameter.data + 2 * index);
@@ -234,7 +230,7 @@ std::vector<double> Numbers_(const Parameters& parameters, const std::string& ke
   std::vector<double> values;
   const Parameter* parameter = Find(parameters, key);
   if (!parameter || parameter->type == -1) return values;
-  for (size_t i = 0; i < parameter->count(); ++i) values.push_back(NumberAt(*parameter, i, numbers));
+  for (size_t i = 0; i < parameter->count; ++i) values.push_back(NumberAt(*parameter, i, numbers));
   return values;
 }
 
@@ -250,7 +246,7 @@ size_t Word(double value) {
 
 double Number(const Parameters& parameters, const std::string& key, const Numbers& numbers, double fallback) {
   const Parameter* parameter = Find(parameters, key);
-  if (!parameter || parameter->type == -1 || parameter->count() == 0) return fallback;
+  if (!parameter || parameter->type == -1 || parameter->count == 0) return fallback;
   return NumberAt(*parameter, 0, numbers);
 }
 
@@ -262,7 +258,7 @@ std::vector<std::string> Strings(const Parameters& parameters, const std::string
   if (parameter->dimensions.empty()) return strings;
   const size_t length = static_cast<size_t>(parameter->dimensions[0]);
   if (length == 0) return strings;
-  const size_t count = parameter->count() / length;
+  const size_t count = parameter->count / length;
   for (size_t i = 0; i < count; ++i) {
     strings.push_back(TrimRight(std::string(reinterpret_cast<const char*>(parameter->data + i * length), length)));
   }
