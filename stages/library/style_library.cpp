@@ -3,9 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/SVD>
-
 #include "common/error.h"
+#include "common/principal_axes.h"
 
 namespace syn {
 SynergyLibrary BuildLibrary(const std::vector<LabelledTrial>& trials, const std::vector<std::string>& sources,
@@ -53,24 +52,18 @@ SynergyLibrary BuildLibrary(const std::vector<LabelledTrial>& trials, const std:
       }
     }
     StyleBasis basis;
-    const Eigen::BDCSVD<Eigen::MatrixXd> svd(stacked, Eigen::ComputeThinV);
-    const int k = std::min<int>(components, static_cast<int>(svd.singularValues().size()));
-    Eigen::MatrixXd v = svd.matrixV().leftCols(k);
-    for (int c = 0; c < k; ++c) {
-      Eigen::Index largest = 0;
-      v.col(c).cwiseAbs().maxCoeff(&largest);
-      if (v(largest, c) < 0) v.col(c) = -v.col(c);
-    }
-    basis.components = v.transpose();
-    basis.singular_values = svd.singularValues().head(k);
-    const double total = svd.singularValues().squaredNorm();
+    const PrincipalAxes principal = ComputePrincipalAxes(stacked, components, /*with_scores=*/false);
+    const int k = static_cast<int>(principal.axes.cols());
+    basis.components = principal.axes.transpose();
+    basis.singular_values = principal.singular_values.head(k);
+    const double total = principal.singular_values.squaredNorm();
     basis.explained_variance_ratio = total > 0 ? Eigen::VectorXd(basis.singular_values.array().square() / total)
                                                : Eigen::VectorXd::Zero(k);
     for (size_t i : members) {
       double kept = 0, all = 0;
       for (const auto& segment : trials[i].synergies.segments) {
         const Eigen::MatrixXd centred = segment.velocities.rowwise() - segment.velocities.colwise().mean();
-        kept += (centred * v).squaredNorm();
+        kept += (centred * principal.axes).squaredNorm();
         all += centred.squaredNorm();
         ++basis.segments;
       }

@@ -1,8 +1,9 @@
 #include "stages/synergies/segment_pca.h"
 
 #include <stdexcept>
+#include <utility>
 
-#include <Eigen/SVD>
+#include "common/principal_axes.h"
 
 namespace syn {
 
@@ -11,26 +12,16 @@ SegmentSynergies ComputeSegmentSynergies(const Eigen::MatrixXd& velocities, int 
   SegmentSynergies result;
   result.mean = velocities.colwise().mean().transpose();
   const Eigen::MatrixXd centred = velocities.rowwise() - result.mean.transpose();
-  const Eigen::BDCSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd sigma = svd.singularValues();
+  PrincipalAxes principal = ComputePrincipalAxes(centred, components, /*with_scores=*/true);
+  const Eigen::VectorXd& sigma = principal.singular_values;
   const int available = static_cast<int>(sigma.size());
-  const int k = std::min(components, available);
-  Eigen::MatrixXd u = svd.matrixU().leftCols(k);
-  Eigen::MatrixXd v = svd.matrixV().leftCols(k);
-  for (int i = 0; i < k; ++i) {
-    Eigen::Index largest = 0;
-    v.col(i).cwiseAbs().maxCoeff(&largest);
-    if (v(largest, i) < 0) {
-      v.col(i) = -v.col(i);
-      u.col(i) = -u.col(i);
-    }
-  }
+  const int k = static_cast<int>(principal.axes.cols());
   const double total = sigma.squaredNorm();
-  result.components = v.transpose();
+  result.components = principal.axes.transpose();
   result.singular_values = sigma.head(k);
   result.explained_variance_ratio = total > 0 ? Eigen::VectorXd(sigma.head(k).array().square() / total)
                                               : Eigen::VectorXd::Zero(k);
-  result.scores = u;
+  result.scores = std::move(principal.scores);
   double cumulative = 0;
   result.components_for_90_percent = available;
   for (int i = 0; i < available; ++i) {

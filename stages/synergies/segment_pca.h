@@ -2,7 +2,8 @@
 // (common/segment_synergies.h gives the maths and the reconstruction).
 //
 // Signs are fixed so that each direction's largest entry is positive, which
-// makes the output deterministic (an SVD may return either sign).
+// makes the output deterministic (an SVD may return either sign; common/principal_axes.h,
+// the convention syn-library's style bases share).
 #pragma once
 
 #include <Eigen/Core>
