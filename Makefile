@@ -112,10 +112,15 @@ SANITIZER_ENVIRONMENT := ASAN_OPTIONS=exitcode=$(SANITIZER_EXIT_CODE):detect_lea
   LSAN_OPTIONS=exitcode=$(SANITIZER_EXIT_CODE) \
   UBSAN_OPTIONS=halt_on_error=1:exitcode=$(SANITIZER_EXIT_CODE):print_stacktrace=1
 # Built with clang, as the fuzzers: under -fsanitize it compiles this code base in half of GCC's time (a cold
-# build on 2 cores: 20 min against about 42, Eigen's decompositions most), and CI builds it from scratch. The
-# compiler is part of CMAKE_FLAGS, so a build-sanitize configured with GCC is configured again.
+# build on 2 cores: 20 min against about 42, Eigen's decompositions most), and CI builds it from scratch. A
+# build-sanitize configured with GCC (before 2026-11-28) is removed first: CMake deletes the whole cache when
+# the compiler changes, -DSYN_SANITIZE=ON with it, and would build a plain Release there (so would any
+# build-sanitize left that way).
 SANITIZE_COMPILERS := -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++
 sanitize-test: setup-fuzz
+	@if [ -f build-sanitize/CMakeCache.txt ] && ! { grep -q '^CMAKE_CXX_COMPILER:[A-Z]*=.*clang++$$' build-sanitize/CMakeCache.txt && \
+	    grep -q '^SYN_SANITIZE:BOOL=ON$$' build-sanitize/CMakeCache.txt; }; then \
+	  echo "make: build-sanitize is not a clang sanitizer build; removing it"; rm -rf build-sanitize; fi
 	$(SANITIZER_ENVIRONMENT) $(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=Debug \
 	  CMAKE_FLAGS="$(SANITIZE_COMPILERS) -DSYN_SANITIZE=ON -DSYN_BENCH=OFF $(CMAKE_FLAGS)"
 
