@@ -15,6 +15,10 @@ PrincipalAxes ComputePrincipalAxes(const Eigen::MatrixXd& centred, int component
   const int k = std::min(components, static_cast<int>(result.singular_values.size()));
   result.axes = svd.matrixV().leftCols(k);
   if (with_scores) result.scores = svd.matrixU().leftCols(k);
+  const double total = result.singular_values.squaredNorm();
+  result.explained_variance_ratio = total > 0
+                                        ? Eigen::VectorXd(result.singular_values.head(k).array().square() / total)
+                                        : Eigen::VectorXd::Zero(k);
   for (int c = 0; c < k; ++c) {
     Eigen::Index largest = 0;
     result.axes.col(c).cwiseAbs().maxCoeff(&largest);

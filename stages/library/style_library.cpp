@@ -53,12 +53,9 @@ SynergyLibrary BuildLibrary(const std::vector<LabelledTrial>& trials, const std:
     }
     StyleBasis basis;
     const PrincipalAxes principal = ComputePrincipalAxes(stacked, components, /*with_scores=*/false);
-    const int k = static_cast<int>(principal.axes.cols());
     basis.components = principal.axes.transpose();
-    basis.singular_values = principal.singular_values.head(k);
-    const double total = principal.singular_values.squaredNorm();
-    basis.explained_variance_ratio = total > 0 ? Eigen::VectorXd(basis.singular_values.array().square() / total)
-                                               : Eigen::VectorXd::Zero(k);
+    basis.singular_values = principal.singular_values.head(principal.axes.cols());
+    basis.explained_variance_ratio = principal.explained_variance_ratio;
     for (size_t i : members) {
       double kept = 0, all = 0;
       for (const auto& segment : trials[i].synergies.segments) {

@@ -15,12 +15,10 @@ SegmentSynergies ComputeSegmentSynergies(const Eigen::MatrixXd& velocities, int 
   PrincipalAxes principal = ComputePrincipalAxes(centred, components, /*with_scores=*/true);
   const Eigen::VectorXd& sigma = principal.singular_values;
   const int available = static_cast<int>(sigma.size());
-  const int k = static_cast<int>(principal.axes.cols());
   const double total = sigma.squaredNorm();
   result.components = principal.axes.transpose();
-  result.singular_values = sigma.head(k);
-  result.explained_variance_ratio = total > 0 ? Eigen::VectorXd(sigma.head(k).array().square() / total)
-                                              : Eigen::VectorXd::Zero(k);
+  result.singular_values = sigma.head(principal.axes.cols());
+  result.explained_variance_ratio = principal.explained_variance_ratio;
   result.scores = std::move(principal.scores);
   double cumulative = 0;
   result.components_for_90_percent = available;

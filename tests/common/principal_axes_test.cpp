@@ -43,6 +43,8 @@ TEST(PrincipalAxes, KnownAxesComeBackWithTheirLargestEntryPositive) {
   ASSERT_EQ(principal.scores.cols(), 3);
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(principal.singular_values[c], known.singular_values[c], 1e-9);
+    // σ² over Σσ²: 9, 4 and 1 fourteenths.
+    EXPECT_NEAR(principal.explained_variance_ratio[c], std::pow(3.0 - c, 2) / 14.0, 1e-12);
     // The true axis, turned so that its largest entry (by magnitude) is positive.
     Eigen::Index largest = 0;
     known.axes.col(c).cwiseAbs().maxCoeff(&largest);
@@ -64,6 +66,8 @@ TEST(PrincipalAxes, FewerComponentsAndNoScoresGiveTheSameLeadingAxes) {
   EXPECT_EQ(two.scores.size(), 0);
   EXPECT_EQ(two.singular_values.size(), 3);  // every singular value, for the explained-variance ratios
   EXPECT_LT((two.axes - all.axes.leftCols(2)).norm(), 1e-12);
+  ASSERT_EQ(two.explained_variance_ratio.size(), 2);  // of all the variance, not of the two kept
+  EXPECT_NEAR(two.explained_variance_ratio.sum(), 13.0 / 14.0, 1e-12);
   // More components than the samples have: capped at min(rows, cols).
   EXPECT_EQ(ComputePrincipalAxes(known.centred, 10, false).axes.cols(), 3);
 }
