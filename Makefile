@@ -14,6 +14,8 @@
 #                         and run the whole pipeline on it: wall time and frames/s per stage
 #   make report [MANIFEST=manifests/X.toml]   the archive's offline HTML report: the paper's figures, per-trial
 #                         plots and a 3-D player (outputs/NAME/report/index.html); redraws only what changed
+#   make watch MOTION="A.h5 B.h5" [MODEL=... ROBOT_MAP=...]   any motion files (a ground-mode fall's --fall-record,
+#                         a stage's output) in the report's 3-D player, with feet and root heights (outputs/watch/)
 #   make project [LIBRARY=... STYLE=walk]   the paper's text-to-motion experiment on the HumanML3D and MDM
 #                         joints in ../shared/datasets/humanml3d: before/after table in outputs/project/
 #   make test             build and run every test (ctest)
@@ -45,7 +47,7 @@ FUZZ_PACKAGES := clang libclang-rt-14-dev
 # Only for `make cluster-up` (installed by tools/slurm/cluster-up.sh, which waits for the dpkg lock).
 SLURM_PACKAGES := slurmctld slurmd slurm-client munge
 
-.PHONY: all setup setup-fuzz setup-report report report-npm configure build test bench bench-archive demo run release compose studio project power-ratio sanitize-test fuzz-smoke clean print-packages cluster-up cluster-down check-cluster
+.PHONY: all setup setup-fuzz setup-report report report-npm watch configure build test bench bench-archive demo run release compose studio project power-ratio sanitize-test fuzz-smoke clean print-packages cluster-up cluster-down check-cluster
 .DEFAULT_GOAL := all
 
 all: demo
@@ -216,6 +218,16 @@ report: run report-npm
 	@$(REPORT_PYTHON) tools/report/report.py plan --manifest $(MANIFEST) --outputs $(OUTPUTS) --bin $(BIN)
 	@$(MAKE) --no-print-directory -j$(JOBS) -f $(OUTPUTS)/$(MANIFEST_NAME)/report/rules.mk SYN_BIN=$(BIN) all
 	@echo "make: $(MANIFEST_NAME): report in $(OUTPUTS)/$(MANIFEST_NAME)/report/index.html"
+
+# `make watch MOTION="A.h5 [B.h5 ...]" [MODEL=URDF ROBOT_MAP=MAP WATCH_DIR=outputs/watch]`: any motion files (a
+# ground-mode fall's --fall-record, a simulated motion beside its kinematic input, one stage output) in the
+# report's 3-D player, with each foot's and the root's height by the report's own FK (tools/report/watch.py).
+MODEL ?= datasets/robots/unitree_g1/g1_29dof.urdf
+ROBOT_MAP ?= manifests/robots/g1.toml
+WATCH_DIR ?= $(OUTPUTS)/watch
+watch: report-npm
+	@[ -n "$(MOTION)" ] || { echo 'make: watch needs MOTION="FILE.h5 ..."'; exit 2; }
+	@$(REPORT_PYTHON) tools/report/watch.py $(MOTION) --model $(MODEL) --robot-map $(ROBOT_MAP) -o $(WATCH_DIR)
 
 # ---- text-to-motion projection ---------------------------------------------------------
 # Each [T,22,3] joints file is ingested and retargeted with the humanml3d22 marker set, then projected.

@@ -49,28 +49,40 @@ def _number(value, digits=3):
     return "–" if value is None else f"{value:.{digits}g}"
 
 
-def write_page(archive, three_path, here, command_line):
-    r = archive.report
-    make_command = f"make report MANIFEST={archive.manifest_path}"
-    # Assets: the player, three.js as a classic script (its CommonJS build inside a function scope).
+def write_player_assets(out_dir, three_path, here, model_path, robot_map_path, coordinate_names):
+    """What the 3-D player needs beside a page: three.js as a classic script (its CommonJS build inside a
+    function scope), player.js, report.css, and robot.js (the robot description, with the robot map's feet)."""
     with open(three_path) as file:
         three = file.read()
-    _write(os.path.join(r, "three.js"),
+    _write(os.path.join(out_dir, "three.js"),
            "/* three.js r" + three.split("REVISION = '")[1].split("'")[0] + ", MIT licence, from npm (tools/report/"
            "package-lock.json), wrapped as a classic script by tools/report/page.py. */\n"
            "var THREE = (function () { var exports = {}; var module = { exports: exports };\n" + three +
            "\nreturn exports; })();\n")
     for name in ("player.js", "report.css"):
-        shutil.copyfile(os.path.join(here, name), os.path.join(r, name + ".tmp"))
-        os.replace(os.path.join(r, name + ".tmp"), os.path.join(r, name))
-
-    trials = [_load(os.path.join(r, "trials", t["id"], "trial.json")) for t in archive.trials]
-    robot = Robot(archive.model)
-    names = read_motion(os.path.join(archive.dir, "trials", archive.trials[0]["id"], "motion.h5"))["coordinate_names"]
-    description = robot.description(names)
+        shutil.copyfile(os.path.join(here, name), os.path.join(out_dir, name + ".tmp"))
+        os.replace(os.path.join(out_dir, name + ".tmp"), os.path.join(out_dir, name))
+    robot = Robot(model_path)
+    description = robot.description(coordinate_names)
     description["feet"] = [{"side": side, "link": robot.index[link], "sole_points": soles.tolist()}
-                           for side, link, soles in read_feet(archive.robot_map)]
-    _write(os.path.join(r, "robot.js"), "SynReport.setRobot(" + json.dumps(description, separators=(",", ":")) + ");\n")
+                           for side, link, soles in read_feet(robot_map_path)]
+    _write(os.path.join(out_dir, "robot.js"), "SynReport.setRobot(" + json.dumps(description, separators=(",", ":")) + ");\n")
+
+
+def page_scripts(trial_list):
+    """The page's closing scripts: three.js, the player, the page's controller over `trial_list` ([{id,
+    label}]), then robot.js, whose SynReport.setRobot call starts the player."""
+    return ('<script src="three.js"></script>\n<script src="player.js"></script>\n'
+            f"<script>\nvar SYN_TRIALS = {json.dumps(trial_list)};\n{PAGE_SCRIPT}</script>\n"
+            '<script src="robot.js"></script>\n')
+
+
+def write_page(archive, three_path, here, command_line):
+    r = archive.report
+    make_command = f"make report MANIFEST={archive.manifest_path}"
+    trials = [_load(os.path.join(r, "trials", t["id"], "trial.json")) for t in archive.trials]
+    names = read_motion(os.path.join(archive.dir, "trials", archive.trials[0]["id"], "motion.h5"))["coordinate_names"]
+    write_player_assets(r, three_path, here, archive.model, archive.robot_map, names)
 
     body = [f"<header><h1>synsculpt report: {html.escape(archive.name)}</h1>",
             f"<p>{html.escape(archive.description)} — {len(trials)} trials, robot "
@@ -94,11 +106,11 @@ def write_page(archive, three_path, here, command_line):
             body.append('<p class="missing">Text-to-motion rows: not available — run <code>make project</code>, '
                         f"then <code>{html.escape(make_command)}</code>.</p>")
         if name == "power":
-            body.append(_table(summary["header"], summary["rows"]))
+            body.append(html_table(summary["header"], summary["rows"]))
     body.append("</section>")
 
     body.append('<section id="trials"><h2>Trials</h2>')
-    body.append(_table(["trial", "class", "style", "duration (s)", "segments", "foot sliding", "power (W/kg)",
+    body.append(html_table(["trial", "class", "style", "duration (s)", "segments", "foot sliding", "power (W/kg)",
                         "median landmark error (mm)"],
                        [[f'<a href="#trial-{t["id"]}">{html.escape(t["id"])}</a>', t["motion_class"], t["style"],
                          _number(t["duration_s"], 4), t["fig3"]["segments"], _number(t["foot_sliding_ratio"]),
@@ -129,22 +141,19 @@ def write_page(archive, three_path, here, command_line):
                  f'{w["time"]} s</button>', html.escape(w["landmark"]), w["error_mm"], _number(w["angle_deg"])]
                 for w in t["worst_frames"]]
         body.append("<h4>Worst frames (largest landmark position error; one per 0.25 s)</h4>")
-        body.append(_table(["frame", "time", "worst landmark", "error (mm)", "angle (deg)"], rows, escape=False)
+        body.append(html_table(["frame", "time", "worst landmark", "error (mm)", "angle (deg)"], rows, escape=False)
                     if rows else '<p class="missing">not available: no landmark errors in motion.h5</p>')
         body.append("</article>")
     body.append("</section>")
 
-    trial_list = json.dumps([{"id": t["id"], "label": f'{t["id"]} ({t["motion_class"]})'} for t in trials])
+    trial_list = [{"id": t["id"], "label": f'{t["id"]} ({t["motion_class"]})'} for t in trials]
     page = (f'<!doctype html>\n<html lang="en"><head><meta charset="utf-8"><title>synsculpt report: '
             f'{html.escape(archive.name)}</title><link rel="stylesheet" href="report.css"></head><body>\n'
-            + "\n".join(body) +
-            '\n<script src="three.js"></script>\n<script src="player.js"></script>\n'
-            f"<script>\nvar SYN_TRIALS = {trial_list};\n{PAGE_SCRIPT}</script>\n"
-            '<script src="robot.js"></script>\n</body></html>\n')
+            + "\n".join(body) + "\n" + page_scripts(trial_list) + "</body></html>\n")
     _write(os.path.join(r, "index.html"), page)
 
 
-def _table(header, rows, escape=True):
+def html_table(header, rows, escape=True):
     cell = (lambda v: html.escape(str(v))) if escape else str
     return ("<table><thead><tr>" + "".join(f"<th>{html.escape(str(h))}</th>" for h in header) + "</tr></thead><tbody>"
             + "".join("<tr>" + "".join(f"<td>{cell(v)}</td>" for v in row) + "</tr>" for row in rows)

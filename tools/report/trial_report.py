@@ -229,10 +229,51 @@ def fit_human_alignment(human, motion, markerset_path):
             "pairs": pairs}
 
 
+def player_motion(trial_id, motion_class, style, motion, soles, has_contact, human=None):
+    """The compact motion the 3-D player plays (trials/ID/motion.js): q, landmark targets, contact and
+    sliding flags at <= PLAYER_RATE_HZ, and the human (positions [T, N, 3] already in the robot's frame) when
+    given. Returns (that dict, the frame stride, the motion's rate, where its contacts came from, the
+    per-frame sliding flags [T, feet])."""
+    time = motion["time"]
+    rate = (len(time) - 1) / (time[-1] - time[0]) if len(time) > 1 else PLAYER_RATE_HZ
+    stride = max(1, int(round(rate / PLAYER_RATE_HZ)))
+    picked = np.arange(0, len(time), stride)
+    feet_contact = np.stack([s["contact"] for s in soles], axis=1) if soles else np.zeros((len(time), 0), bool)
+    contact_source = "estimated"
+    if has_contact and motion["contact"].shape[1] == feet_contact.shape[1]:
+        feet_contact, contact_source = motion["contact"], "motion.h5"
+    sliding = np.stack([s["sliding"] for s in soles], axis=1) if soles else np.zeros((len(time), 0), bool)
+
+    # A frame the player skips still shows: a sample is flagged when any frame it stands for is.
+    def spread(flags):
+        out = np.zeros((len(picked), flags.shape[1]), dtype=np.uint8)
+        for i, k in enumerate(picked):
+            out[i] = flags[k:k + stride].any(axis=0)
+        return out
+    landmarks = None
+    if "landmark_targets" in motion:
+        targets = motion["landmark_targets"][picked, :, :3]
+        landmarks = {"names": motion["landmark_names"], "positions": _b64(targets, "<f4")}
+    human_export = None
+    if human is not None:
+        human_export = {"names": human["names"], "parents": human["parents"],
+                        "positions": _b64(human["positions"][picked], "<f4"),
+                        "scale": human["scale"], "heading_deg": human["heading_deg"]}
+    player = {
+        "id": trial_id, "motion_class": motion_class, "style": style,
+        "frames": int(len(picked)), "nq": int(motion["q"].shape[1]),
+        "time": _b64(time[picked] - time[0], "<f4"), "q": _b64(motion["q"][picked], "<f4"),
+        "landmarks": landmarks, "human": human_export, "feet": [s["side"] for s in soles], "contact_source": contact_source,
+        "contact": _b64(spread(feet_contact), "u1"), "sliding": _b64(spread(sliding), "u1"),
+        "source_frames": picked.tolist()[:1] + [int(stride)]}
+    return player, stride, rate, contact_source, sliding
+
+
 def write_trial(trial, markers_path, markerset_path, motion_path, segments_path, urdf_path, robot_map_path, metrics_path, out_dir):
     """Writes every per-trial file into out_dir; trial.json (the page's summary of the trial) last."""
     os.makedirs(out_dir, exist_ok=True)
     motion = read_motion(motion_path)
+    time = motion["time"]
     robot = Robot(urdf_path)
     with open(metrics_path) as file:
         metrics = json.load(file)
@@ -244,31 +285,11 @@ def write_trial(trial, markers_path, markerset_path, motion_path, segments_path,
     has_contact = contact_figure(motion, trial_id, os.path.join(out_dir, "contact"))
     soles = sole_kinematics(robot, motion, read_feet(robot_map_path), sliding_options)
 
-    # Player samples: every stride-th frame.
-    time = motion["time"]
-    rate = (len(time) - 1) / (time[-1] - time[0]) if len(time) > 1 else PLAYER_RATE_HZ
-    stride = max(1, int(round(rate / PLAYER_RATE_HZ)))
-    picked = np.arange(0, len(time), stride)
-    feet_contact = np.stack([s["contact"] for s in soles], axis=1) if soles else np.zeros((len(time), 0), bool)
-    contact_source = "estimated"
-    if has_contact and motion["contact"].shape[1] == feet_contact.shape[1]:
-        feet_contact, contact_source = motion["contact"], "motion.h5"
-    sliding = np.stack([s["sliding"] for s in soles], axis=1) if soles else np.zeros((len(time), 0), bool)
-    # A frame the player skips still shows: a sample is flagged when any frame it stands for is.
-    def spread(flags):
-        out = np.zeros((len(picked), flags.shape[1]), dtype=np.uint8)
-        for i, k in enumerate(picked):
-            out[i] = flags[k:k + stride].any(axis=0)
-        return out
-    landmarks = None
-    if "landmark_targets" in motion:
-        targets = motion["landmark_targets"][picked, :, :3]
-        landmarks = {"names": motion["landmark_names"], "positions": _b64(targets, "<f4")}
     # The human as captured, brought into the robot's frame by the heading, scale and offset syn-retarget
     # applied (fitted here from the landmark correspondences; the player adds its "beside" offset).
     human = read_human(markers_path)
-    if human["positions"].shape[0] != len(time):
-        raise ValueError(f"{markers_path}: {human['positions'].shape[0]} frames, {motion_path} has {len(time)}")
+    if human["positions"].shape[0] != len(motion["time"]):
+        raise ValueError(f"{markers_path}: {human['positions'].shape[0]} frames, {motion_path} has {len(motion['time'])}")
     alignment = fit_human_alignment(human, motion, markerset_path)
     human_positions = alignment["scale"] * np.einsum("ij,tnj->tni", alignment["rotation"], human["positions"]) \
         + alignment["offset"]
@@ -277,25 +298,19 @@ def write_trial(trial, markers_path, markerset_path, motion_path, segments_path,
     lowest = np.nanmin(human_positions[:, :, 2], axis=1) if human_positions.shape[1] else np.zeros(1)
     if np.isfinite(lowest).any():
         human_positions[:, :, 2] -= np.nanpercentile(lowest, 5)
-    human_export = {"names": human["names"], "parents": human["parents"],
-                    "positions": _b64(human_positions[picked], "<f4"),
-                    "scale": round(alignment["scale"], 4), "heading_deg": round(alignment["heading_deg"], 1)}
-    player = {
-        "id": trial_id, "motion_class": trial.get("motion_class", ""), "style": trial.get("style", ""),
-        "frames": int(len(picked)), "nq": int(motion["q"].shape[1]),
-        "time": _b64(time[picked] - time[0], "<f4"), "q": _b64(motion["q"][picked], "<f4"),
-        "landmarks": landmarks, "human": human_export, "feet": [s["side"] for s in soles], "contact_source": contact_source,
-        "contact": _b64(spread(feet_contact), "u1"), "sliding": _b64(spread(sliding), "u1"),
-        "source_frames": picked.tolist()[:1] + [int(stride)]}
+    human_track = {"names": human["names"], "parents": human["parents"], "positions": human_positions,
+                   "scale": round(alignment["scale"], 4), "heading_deg": round(alignment["heading_deg"], 1)}
+    player, stride, rate, contact_source, sliding = player_motion(
+        trial_id, trial.get("motion_class", ""), trial.get("style", ""), motion, soles, has_contact, human_track)
     write_atomically(os.path.join(out_dir, "motion.js"),
-                      "SynReport.addTrial(" + json.dumps(player, separators=(",", ":")) + ");\n")
+                     "SynReport.addTrial(" + json.dumps(player, separators=(",", ":")) + ");\n")
 
     error = motion.get("landmark_error")
     summary = {
         "id": trial_id, "motion_class": trial.get("motion_class", ""), "style": trial.get("style", ""),
         "frames": int(len(time)), "duration_s": round(float(time[-1] - time[0]), 3), "rate_hz": round(float(rate), 2),
         "player_stride": int(stride), "fig3": fig3,
-        "human_alignment": {"scale": round(alignment["scale"], 4), "heading_deg": round(alignment["heading_deg"], 1)}, "contact_dataset": has_contact,
+        "human_alignment": {"scale": human_track["scale"], "heading_deg": human_track["heading_deg"]}, "contact_dataset": has_contact,
         "contact_source": contact_source,
         "sliding_frames_estimated": int(sliding.any(axis=1).sum()),
         "foot_sliding_ratio": metrics.get("trial", {}).get("foot_sliding_ratio"),
