@@ -5,7 +5,7 @@ import { createRequire } from 'node:module';
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { fileURLToPath, pathToFileURL } from 'node:url';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const require = createRequire(path.join(here, '..', '..', 'tools', 'report', 'package.json'));
@@ -30,6 +30,17 @@ export async function openChromium(name, contextOptions = {}) {
       fs.rmSync(profile, { recursive: true, force: true });
     },
   };
+}
+
+// A page with the 3-D player (the report's, the watch page) opened from file:// in a new tab, once its
+// first motion is shown. Returns the tab and its error list (collectErrors, offline).
+export async function openPlayerPage(chromium, pagePath) {
+  const page = await chromium.browser.newPage();
+  const errors = collectErrors(page, { offline: true });
+  await page.goto(pathToFileURL(path.resolve(pagePath)).href, { waitUntil: 'load' });
+  await page.waitForFunction(() => window.SynReport && SynReport.ready() && synPlayer.frameCount() > 0,
+                             null, { timeout: 30000 });
+  return { page, errors };
 }
 
 // check(ok, what) prints each check with the seconds since start; finish() exits 1 if any failed.

@@ -5,8 +5,7 @@
 //   node report_page_test.mjs REPORT_DIR/index.html EXPECTED_FK.json SCREENSHOT_DIR
 import fs from 'node:fs';
 import path from 'node:path';
-import { pathToFileURL } from 'node:url';
-import { canvasSnapshot, checkList, collectErrors, imageWidths, openChromium, slideToMiddle, worstFkDifference } from './browser_checks.mjs';
+import { canvasSnapshot, checkList, imageWidths, openChromium, openPlayerPage, slideToMiddle, worstFkDifference } from './browser_checks.mjs';
 
 const [page_path, expected_path, shots] = process.argv.slice(2);
 const expected = JSON.parse(fs.readFileSync(expected_path, 'utf8'));
@@ -14,11 +13,7 @@ fs.mkdirSync(shots, { recursive: true });
 const { check, finish } = checkList('report_page_test');
 const chromium = await openChromium('report');
 try {
-  const page = await chromium.browser.newPage();
-  const errors = collectErrors(page, { offline: true });
-  await page.goto(pathToFileURL(path.resolve(page_path)).href, { waitUntil: 'load' });
-  await page.waitForFunction(() => window.SynReport && SynReport.ready() && synPlayer.frameCount() > 0,
-                             null, { timeout: 30000 });
+  const { page, errors } = await openPlayerPage(chromium, page_path);
 
   const images = await imageWidths(page);
   const broken = images.filter((image) => image.width === 0).map((image) => image.src);

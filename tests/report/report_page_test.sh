@@ -6,12 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build_dir=${1:-build}
-skip() { echo "SKIPPED: $*"; exit 77; }
-command -v node >/dev/null || skip "node is not installed (make setup-report, as root)"
-chromium=${CHROMIUM:-/usr/bin/chromium}
-[ -x "$chromium" ] || skip "$chromium is not installed (make setup-report, as root)"
-[ -d tools/report/node_modules/playwright-core ] && [ -d tools/report/node_modules/three ] ||
-  skip "tools/report/node_modules is missing: (cd tools/report && npm ci)"
+. tests/report/browser_prerequisites.sh
 
 start=$(date +%s.%N)
 make --no-print-directory -s report MANIFEST=manifests/demo.toml BUILD_DIR="$build_dir" JOBS=2

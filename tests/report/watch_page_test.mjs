@@ -6,8 +6,7 @@
 //   node watch_page_test.mjs PAGE/index.html EXPECTED_FK.json SCREENSHOT_DIR
 import fs from 'node:fs';
 import path from 'node:path';
-import { pathToFileURL } from 'node:url';
-import { canvasSnapshot, checkList, collectErrors, imageWidths, openChromium, pickTrial, slideToMiddle,
+import { canvasSnapshot, checkList, imageWidths, openChromium, openPlayerPage, pickTrial, slideToMiddle,
          worstFkDifference } from './browser_checks.mjs';
 
 const [page_path, expected_path, shots] = process.argv.slice(2);
@@ -18,11 +17,7 @@ fs.mkdirSync(shots, { recursive: true });
 const { check, finish } = checkList('watch_page_test');
 const chromium = await openChromium('watch');
 try {
-  const page = await chromium.browser.newPage();
-  const errors = collectErrors(page, { offline: true });
-  await page.goto(pathToFileURL(path.resolve(page_path)).href, { waitUntil: 'load' });
-  await page.waitForFunction(() => window.SynReport && SynReport.ready() && synPlayer.frameCount() > 0,
-                             null, { timeout: 30000 });
+  const { page, errors } = await openPlayerPage(chromium, page_path);
 
   const listed = await page.$$eval('#trial option', (options) => options.map((option) => option.value));
   check(JSON.stringify(listed) === JSON.stringify(motions), `the picker lists the motions (${listed.join(', ')})`);

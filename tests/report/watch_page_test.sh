@@ -7,13 +7,8 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 build_dir=${1:-build}
 python=${PYTHON:-/usr/bin/python3}
-skip() { echo "SKIPPED: $*"; exit 77; }
 fail() { echo "FAIL: $*"; exit 1; }
-command -v node >/dev/null || skip "node is not installed (make setup-report, as root)"
-chromium=${CHROMIUM:-/usr/bin/chromium}
-[ -x "$chromium" ] || skip "$chromium is not installed (make setup-report, as root)"
-[ -d tools/report/node_modules/playwright-core ] && [ -d tools/report/node_modules/three ] ||
-  skip "tools/report/node_modules is missing: (cd tools/report && npm ci)"
+. tests/report/browser_prerequisites.sh
 demo=outputs/demo/trials
 [ -f $demo/60_10/motion.h5 ] && [ -f $demo/02_01/motion.h5 ] || skip "the demo's motions are missing: run make demo"
 model=datasets/robots/unitree_g1/g1_29dof.urdf

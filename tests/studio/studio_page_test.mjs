@@ -4,39 +4,17 @@
 // that was composed. Writes the page's q and the saved script for studio_page_test.sh to compose in batch.
 //
 //   node studio_page_test.mjs URL OUT_DIR
-import { createRequire } from 'node:module';
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-
-const here = path.dirname(fileURLToPath(import.meta.url));
-const require = createRequire(path.join(here, '..', '..', 'tools', 'report', 'package.json'));
-const { chromium } = require('playwright-core');
+import { checkList, collectErrors, openChromium } from '../report/browser_checks.mjs';
 
 const [url, out] = process.argv.slice(2);
 fs.mkdirSync(out, { recursive: true });
-const failures = [];
-const started = Date.now();
-const check = (ok, what) => {
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what} [${((Date.now() - started) / 1000).toFixed(1)} s]`);
-  if (!ok) failures.push(what);
-};
-
-const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'synsculpt-studio-chromium-'));
-const browser = await chromium.launchPersistentContext(profile, {
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  viewport: { width: 1400, height: 900 },
-  acceptDownloads: true,
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-         '--disable-background-networking', '--disable-component-update', '--disable-sync',
-         '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
+const { check, finish } = checkList('studio_page_test');
+const chromium = await openChromium('studio', { viewport: { width: 1400, height: 900 }, acceptDownloads: true });
 try {
-  const page = await browser.newPage();
-  const errors = [];
-  page.on('console', (message) => { if (message.type() === 'error') errors.push(message.text()); });
-  page.on('pageerror', (error) => errors.push(String(error)));
+  const page = await chromium.browser.newPage();
+  const errors = collectErrors(page);
   await page.goto(url, { waitUntil: 'load' });
   await page.waitForFunction(() => window.studio && studio.composeCount > 0, null, { timeout: 30000 });
   check(await page.evaluate(() => studio.lastResult !== null), 'the page composed its first script');
@@ -108,8 +86,6 @@ try {
                    JSON.stringify(await page.evaluate(() => ({ time: studio.lastResult.time, q: studio.lastResult.q }))));
   check(errors.length === 0, `no console errors${errors.length ? ': ' + errors.join(' | ') : ''}`);
 } finally {
-  await browser.close();
-  fs.rmSync(profile, { recursive: true, force: true });
+  await chromium.close();
 }
-console.log(failures.length ? `studio_page_test: ${failures.length} failed` : 'studio_page_test: all passed');
-process.exit(failures.length ? 1 : 0);
+finish(`files in ${out}`);

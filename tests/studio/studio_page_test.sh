@@ -8,12 +8,7 @@ cd "$(dirname "$0")/../.."
 build_dir=${1:-build}
 out=outputs/studio-test
 library=${LIBRARY:-outputs/demo/library.h5}
-skip() { echo "SKIPPED: $*"; exit 77; }
-command -v node >/dev/null || skip "node is not installed (make setup-report, as root)"
-chromium=${CHROMIUM:-/usr/bin/chromium}
-[ -x "$chromium" ] || skip "$chromium is not installed (make setup-report, as root)"
-[ -d tools/report/node_modules/playwright-core ] && [ -d tools/report/node_modules/three ] ||
-  skip "tools/report/node_modules is missing: make report-npm"
+. tests/report/browser_prerequisites.sh
 [ -f "$library" ] || skip "no demo library at $library: make demo"
 
 rm -rf "$out" && mkdir -p "$out"
