@@ -46,34 +46,42 @@ def vertical_forces(path):
 
 
 def heights_figure(motion_name, motion, soles, root_height, forces, stem):
-    """Each foot's lowest sole point (mm; contact frames shaded) and the root link's height (m) against
-    time; the vertical sole forces below them when given."""
+    """Against time: where the file marks each foot in contact (when it has a contact dataset), each foot's
+    lowest sole point (mm), the root link's height (m), and the vertical sole forces when given."""
     time = motion["time"] - motion["time"][0]
-    rows = 3 if forces is not None else 2
-    figure, axes = plotting.new_figure(8.0, 1.9 * rows + 0.4, rows=rows, sharex=True)
-    colours = ["#3b6fb6", "#c0392b", "#2a9d8f", "#8e44ad"]
-    # Under the curves, a strip per foot where the file marks it in contact (syn-retarget's source contacts,
-    # syn-simulate's soles on the floor).
     contact = motion.get("contact")
+    rows = [row for row, present in (("contact", contact is not None), ("soles", True), ("root", True),
+                                      ("forces", forces is not None)) if present]
+    ratios = {"contact": 0.35, "soles": 1.0, "root": 1.0, "forces": 1.0}
+    figure, axes_list = plotting.new_figure(8.0, 0.4 + sum(1.9 * ratios[r] for r in rows), rows=len(rows), sharex=True,
+                                            gridspec_kw={"height_ratios": [ratios[r] for r in rows]})
+    axes = dict(zip(rows, np.atleast_1d(axes_list)))
+    colours = ["#3b6fb6", "#c0392b", "#2a9d8f", "#8e44ad"]
+    sides = [sole["side"] for sole in soles]
+    if contact is not None:
+        for f in range(contact.shape[1]):
+            axes["contact"].fill_between(time, f + 0.15, f + 0.85, where=contact[:, f], step="mid", linewidth=0,
+                                         color=colours[f % len(colours)])
+        axes["contact"].set_yticks(range(contact.shape[1]), sides[:contact.shape[1]] if len(sides) >= contact.shape[1]
+                                   else [str(f) for f in range(contact.shape[1])])
+        axes["contact"].set_ylim(0, contact.shape[1])
+        axes["contact"].set_ylabel("contact", fontsize=8)
     for f, sole in enumerate(soles):
-        colour = colours[f % len(colours)]
-        axes[0].plot(time, sole["lowest"] * 1000.0, color=colour, linewidth=0.9, label=f"{sole['side']} foot")
-        if contact is not None and f < contact.shape[1]:
-            axes[0].fill_between(time, -14.0 - 6.0 * f, -10.0 - 6.0 * f, where=contact[:, f], color=colour,
-                                 linewidth=0, step="mid")
-    axes[0].axhline(0.0, color="#555", linewidth=0.6)
-    axes[0].set_ylabel("lowest sole point (mm)")
-    axes[0].legend(frameon=False, fontsize=7, loc="upper right")
-    axes[0].set_title(f"{motion_name}: feet and root height by forward kinematics (URDF, not the stage's)")
-    axes[1].plot(time, root_height, color="#333", linewidth=0.9)
-    axes[1].set_ylabel("root link height (m)")
+        axes["soles"].plot(time, sole["lowest"] * 1000.0, color=colours[f % len(colours)], linewidth=0.9,
+                           label=f"{sole['side']} foot")
+    axes["soles"].axhline(0.0, color="#555", linewidth=0.6)
+    axes["soles"].set_ylabel("lowest sole point (mm)")
+    axes["soles"].legend(frameon=False, fontsize=7, loc="upper right")
+    axes[rows[0]].set_title(f"{motion_name}: feet and root height by forward kinematics (URDF, not the stage's)")
+    axes["root"].plot(time, root_height, color="#333", linewidth=0.9)
+    axes["root"].set_ylabel("root link height (m)")
     if forces is not None:
         for f in range(forces.shape[1]):
-            side = soles[f]["side"] if f < len(soles) else str(f)
-            axes[2].plot(time, forces[:, f], color=colours[f % len(colours)], linewidth=0.8, label=f"{side} foot")
-        axes[2].set_ylabel("vertical sole force (N)")
-        axes[2].legend(frameon=False, fontsize=7, loc="upper right")
-    axes[-1].set_xlabel("time (s)")
+            side = sides[f] if f < len(sides) else str(f)
+            axes["forces"].plot(time, forces[:, f], color=colours[f % len(colours)], linewidth=0.8, label=f"{side} foot")
+        axes["forces"].set_ylabel("vertical sole force (N)")
+        axes["forces"].legend(frameon=False, fontsize=7, loc="upper right")
+    axes[rows[-1]].set_xlabel("time (s)")
     plotting.save(figure, stem)
 
 
@@ -117,8 +125,8 @@ def watch(paths, model_path, robot_map_path, out_dir):
             f'<button class="play" data-trial="{html.escape(motion_name)}" data-time="0">play in 3-D</button></h3>'
             f'<figure><img src="trials/{html.escape(motion_name)}/heights.png" alt="{html.escape(motion_name)} heights">'
             f'<figcaption>Per foot, the lowest of the robot map\'s sole points and, below, the root link\'s height, '
-            f'by tools/report/urdf_fk.py from q (the strips under the curves: the frames the file marks the foot '
-            f'in contact){"; at the bottom, syn-simulate&#39;s vertical ground force per foot" if forces is not None else ""}. '
+            f'by tools/report/urdf_fk.py from q; on top, the frames the file marks each foot in contact (when it has '
+            f'a contact dataset){"; at the bottom, syn-simulate&#39;s vertical ground force per foot" if forces is not None else ""}. '
             f'<a href="trials/{html.escape(motion_name)}/heights.svg">SVG</a></figcaption></figure>'
             f'<p class="note">{len(motion["time"])} frames at {rate:.1f} Hz (the player samples one in {stride}).</p>'
             "</article>")
