@@ -20,7 +20,7 @@
 #                         joints in ../shared/datasets/humanml3d: before/after table in outputs/project/
 #   make test             build and run every test (ctest)
 #   make bench            Google Benchmark programs: per-call times and frames per second per stage
-#   make sanitize-test    the test suite on an ASan+UBSan build (clang, -O1 -g)
+#   make sanitize-test    the test suite on an ASan+UBSan build (clang, -O1, line tables)
 #   make fuzz-smoke       each format reader's libFuzzer target for FUZZ_SECONDS (clang)
 #
 # Variables: BUILD_DIR (build), BUILD_TYPE (Release), JOBS (nproc), CMAKE_FLAGS, CLUSTER (local | slurm;
