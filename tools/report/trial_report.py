@@ -36,7 +36,9 @@ def read_motion(path):
             motion["floor_rotation"] = np.eye(3)
         if "contact" in file:  # issue 17: contact[T, feet], with the feet's names when given
             motion["contact"] = np.asarray(file["contact"][()]).astype(bool)
-            names = file["contact"].attrs.get("feet", file.attrs.get("contact_feet"))
+            # The feet's names: the contact_feet dataset syn-retarget and syn-simulate write, else attributes.
+            names = file["contact_feet"][()] if "contact_feet" in file else \
+                file["contact"].attrs.get("feet", file.attrs.get("contact_feet"))
             motion["contact_names"] = [_text(n) for n in names] if names is not None else None
     return motion
 
@@ -129,6 +131,21 @@ def landmark_error_figure(motion, trial_id, stem):
     plotting.save(figure, stem)
 
 
+def draw_contact(axes, motion, time_origin=0.0):
+    """The motion file's contact phases on `axes`: a bar per foot where it is planted, named by the file's
+    contact_feet (else foot N); time less `time_origin`."""
+    contact = motion["contact"]
+    names = motion.get("contact_names") or [f"foot {f}" for f in range(contact.shape[1])]
+    time = motion["time"] - time_origin
+    for f in range(contact.shape[1]):
+        starts = np.flatnonzero(np.diff(np.concatenate([[0], contact[:, f].astype(int)])) == 1)
+        ends = np.flatnonzero(np.diff(np.concatenate([contact[:, f].astype(int), [0]])) == -1)
+        axes.broken_barh([(time[s], time[e] - time[s] + (time[1] - time[0] if len(time) > 1 else 0))
+                          for s, e in zip(starts, ends)], (f - 0.4, 0.8), color="#2a9d8f")
+    axes.set_yticks(range(contact.shape[1]))
+    axes.set_yticklabels(names)
+
+
 def contact_figure(motion, trial_id, stem):
     """The motion file's contact phases when it has them; the estimated ones are drawn in the player only."""
     figure, axes = plotting.new_figure(8.0, 1.6)
@@ -137,16 +154,7 @@ def contact_figure(motion, trial_id, stem):
                   transform=axes.transAxes)
         axes.set_yticks([])
     else:
-        contact = motion["contact"]
-        names = motion.get("contact_names") or [f"foot {f}" for f in range(contact.shape[1])]
-        time = motion["time"]
-        for f in range(contact.shape[1]):
-            starts = np.flatnonzero(np.diff(np.concatenate([[0], contact[:, f].astype(int)])) == 1)
-            ends = np.flatnonzero(np.diff(np.concatenate([contact[:, f].astype(int), [0]])) == -1)
-            axes.broken_barh([(time[s], time[e] - time[s] + (time[1] - time[0] if len(time) > 1 else 0))
-                              for s, e in zip(starts, ends)], (f - 0.4, 0.8), color="#2a9d8f")
-        axes.set_yticks(range(contact.shape[1]))
-        axes.set_yticklabels(names)
+        draw_contact(axes, motion)
     axes.set_xlabel("time (s)")
     axes.set_title(f"{trial_id}: contact phases")
     plotting.save(figure, stem)
@@ -241,7 +249,11 @@ def player_motion(trial_id, motion_class, style, motion, soles, has_contact, hum
     feet_contact = np.stack([s["contact"] for s in soles], axis=1) if soles else np.zeros((len(time), 0), bool)
     contact_source = "estimated"
     if has_contact and motion["contact"].shape[1] == feet_contact.shape[1]:
-        feet_contact, contact_source = motion["contact"], "motion.h5"
+        # The file's columns in the robot map's order of feet (the player's), by name where the file names them.
+        names = motion.get("contact_names")
+        sides = [s["side"] for s in soles]
+        order = [names.index(side) for side in sides] if names and set(sides) <= set(names) else list(range(len(sides)))
+        feet_contact, contact_source = motion["contact"][:, order], "motion.h5"
     sliding = np.stack([s["sliding"] for s in soles], axis=1) if soles else np.zeros((len(time), 0), bool)
 
     # A frame the player skips still shows: a sample is flagged when any frame it stands for is.

@@ -26,7 +26,7 @@ sys.path.insert(0, HERE)
 import page  # noqa: E402  (after the path is set)
 import plotting  # noqa: E402
 from files import open_hdf5, write_atomically  # noqa: E402
-from trial_report import player_motion, read_feet, read_motion, sole_kinematics  # noqa: E402
+from trial_report import draw_contact, player_motion, read_feet, read_motion, sole_kinematics  # noqa: E402
 from urdf_fk import Robot  # noqa: E402
 
 THREE = os.path.join(HERE, "node_modules", "three", "build", "three.cjs")
@@ -59,12 +59,7 @@ def heights_figure(motion_name, motion, soles, root_height, forces, stem):
     colours = ["#3b6fb6", "#c0392b", "#2a9d8f", "#8e44ad"]
     sides = [sole["side"] for sole in soles]
     if contact is not None:
-        for f in range(contact.shape[1]):
-            axes["contact"].fill_between(time, f + 0.15, f + 0.85, where=contact[:, f], step="mid", linewidth=0,
-                                         color=colours[f % len(colours)])
-        axes["contact"].set_yticks(range(contact.shape[1]), sides[:contact.shape[1]] if len(sides) >= contact.shape[1]
-                                   else [str(f) for f in range(contact.shape[1])])
-        axes["contact"].set_ylim(0, contact.shape[1])
+        draw_contact(axes["contact"], motion, motion["time"][0])
         axes["contact"].set_ylabel("contact", fontsize=8)
     for f, sole in enumerate(soles):
         axes["soles"].plot(time, sole["lowest"] * 1000.0, color=colours[f % len(colours)], linewidth=0.9,
