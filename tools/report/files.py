@@ -3,6 +3,10 @@ import os
 
 import h5py
 
+# three.js as npm installs it (make report-npm; package-lock.json pins it): what the report's and the watch
+# page's player draw with.
+THREE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "node_modules", "three", "build", "three.cjs")
+
 
 def open_hdf5(path):
     """h5py.File(path) for reading; its errors name the file (h5py's own messages do not)."""

@@ -19,6 +19,7 @@ import tomllib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+from files import THREE  # noqa: E402  (after the path is set)
 
 TOOL = os.path.relpath(os.path.join(HERE, "report.py"))
 # The interpreter that runs the plan runs the rules (make report uses Debian's, which has numpy, h5py, matplotlib).
@@ -27,7 +28,6 @@ COMMON_SOURCES = ["plotting.py", "files.py"]
 TRIAL_SOURCES = COMMON_SOURCES + ["trial_report.py", "urdf_fk.py"]
 FIGURE_SOURCES = COMMON_SOURCES + ["figures.py"]
 PAGE_SOURCES = ["page.py", "files.py", "trial_report.py", "urdf_fk.py", "player.js", "report.css"]
-THREE = os.path.join(HERE, "node_modules", "three", "build", "three.cjs")
 
 
 class Archive:

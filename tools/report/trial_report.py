@@ -11,6 +11,8 @@ import plotting
 from files import open_hdf5, write_atomically
 from urdf_fk import Robot, quaternion_matrices
 
+# DESIGN.md's foot-sliding definition with syn-evaluate's defaults, for a motion that has no metrics.json.
+DEFAULT_SLIDING = {"contact_height": 0.05, "slide_speed": 0.5, "slide_window": 0.05, "penetration": 0.01}
 PLAYER_RATE_HZ = 60.0   # playback samples: enough for smooth motion at a fraction of a 120 Hz capture's bytes
 WORST_FRAMES = 8        # rows in the worst-frames table
 
@@ -40,6 +42,8 @@ def read_motion(path):
             names = file["contact_feet"][()] if "contact_feet" in file else \
                 file["contact"].attrs.get("feet", file.attrs.get("contact_feet"))
             motion["contact_names"] = [_text(n) for n in names] if names is not None else None
+        if "contact_force" in file:  # [T, feet, 3] N: syn-retarget's force split, syn-simulate's ground forces
+            motion["contact_force"] = file["contact_force"][()]
     return motion
 
 
@@ -64,10 +68,11 @@ def read_feet(robot_map_path):
     return [(side, foot["link"], np.asarray(foot["sole_points"], dtype=float)) for side, foot in sorted(feet.items())]
 
 
-def sole_kinematics(robot, motion, feet, options):
+def sole_kinematics(robot, motion, feet, options, kinematics=None):
     """Per foot: lowest sole-point height [T] and sole-centroid horizontal speed [T] over a centred window,
-    as DESIGN.md's foot-sliding definition (evaluated at the motion's frames, not syn-evaluate's 1 kHz)."""
-    rotations, positions = robot.forward_kinematics(motion["q"], motion["coordinate_names"])
+    as DESIGN.md's foot-sliding definition (evaluated at the motion's frames, not syn-evaluate's 1 kHz).
+    `kinematics`: robot.forward_kinematics of the motion, when the caller has it already."""
+    rotations, positions = kinematics or robot.forward_kinematics(motion["q"], motion["coordinate_names"])
     time = motion["time"]
     result = []
     for side, link, soles in feet:
@@ -289,8 +294,7 @@ def write_trial(trial, markers_path, markerset_path, motion_path, segments_path,
     robot = Robot(urdf_path)
     with open(metrics_path) as file:
         metrics = json.load(file)
-    sliding_options = metrics["parameters"] if "contact_height" in metrics.get("parameters", {}) else \
-        {"contact_height": 0.05, "slide_speed": 0.5, "slide_window": 0.05, "penetration": 0.01}
+    sliding_options = metrics["parameters"] if "contact_height" in metrics.get("parameters", {}) else DEFAULT_SLIDING
     trial_id = trial["id"]
     fig3 = momentum_figure(segments_path, motion, trial_id, os.path.join(out_dir, "fig3"))
     landmark_error_figure(motion, trial_id, os.path.join(out_dir, "landmark_error"))
@@ -300,8 +304,8 @@ def write_trial(trial, markers_path, markerset_path, motion_path, segments_path,
     # The human as captured, brought into the robot's frame by the heading, scale and offset syn-retarget
     # applied (fitted here from the landmark correspondences; the player adds its "beside" offset).
     human = read_human(markers_path)
-    if human["positions"].shape[0] != len(motion["time"]):
-        raise ValueError(f"{markers_path}: {human['positions'].shape[0]} frames, {motion_path} has {len(motion['time'])}")
+    if human["positions"].shape[0] != len(time):
+        raise ValueError(f"{markers_path}: {human['positions'].shape[0]} frames, {motion_path} has {len(time)}")
     alignment = fit_human_alignment(human, motion, markerset_path)
     human_positions = alignment["scale"] * np.einsum("ij,tnj->tni", alignment["rotation"], human["positions"]) \
         + alignment["offset"]

@@ -25,24 +25,15 @@ sys.path.insert(0, HERE)
 
 import page  # noqa: E402  (after the path is set)
 import plotting  # noqa: E402
-from files import open_hdf5, write_atomically  # noqa: E402
-from trial_report import draw_contact, player_motion, read_feet, read_motion, sole_kinematics  # noqa: E402
+from files import THREE, write_atomically  # noqa: E402
+from trial_report import DEFAULT_SLIDING, draw_contact, player_motion, read_feet, read_motion, sole_kinematics  # noqa: E402
 from urdf_fk import Robot  # noqa: E402
 
-THREE = os.path.join(HERE, "node_modules", "three", "build", "three.cjs")
-# DESIGN.md's foot-sliding definition with syn-evaluate's defaults: the player's green and red feet.
-SLIDING = {"contact_height": 0.05, "slide_speed": 0.5, "slide_window": 0.05, "penetration": 0.01}
 
 
 def motion_id(path):
     name = os.path.basename(path)
     return name[:-3] if name.endswith(".h5") else name
-
-
-def vertical_forces(path):
-    """syn-simulate's ground-mode contact forces' vertical components [T, feet] (N), or None."""
-    with open_hdf5(path) as file:
-        return file["contact_force"][()][:, :, 2] if "contact_force" in file else None
 
 
 def heights_figure(motion_name, motion, soles, root_height, forces, stem):
@@ -95,18 +86,19 @@ def watch(paths, model_path, robot_map_path, out_dir):
         if len(motion["time"]) == 0:
             raise ValueError(f"{path}: no frames")
     os.makedirs(out_dir, exist_ok=True)
+    root = next(i for i, link in enumerate(robot.links) if link["joint"] is None)
     rows, trial_list, sections = [], [], []
     for path, motion_name, motion in zip(paths, ids, motions):
         trial_dir = os.path.join(out_dir, "trials", motion_name)
         os.makedirs(trial_dir, exist_ok=True)
-        soles = sole_kinematics(robot, motion, feet, SLIDING)
+        kinematics = robot.forward_kinematics(motion["q"], motion["coordinate_names"])
+        soles = sole_kinematics(robot, motion, feet, DEFAULT_SLIDING, kinematics)
         has_contact = "contact" in motion
         player, stride, rate, contact_source, _ = player_motion(motion_name, "", "", motion, soles, has_contact)
         write_atomically(os.path.join(trial_dir, "motion.js"),
                          "SynReport.addTrial(" + json.dumps(player, separators=(",", ":")) + ");\n")
-        _, positions = robot.forward_kinematics(motion["q"], motion["coordinate_names"])
-        root_height = positions[:, next(i for i, link in enumerate(robot.links) if link["joint"] is None), 2]
-        forces = vertical_forces(path)
+        root_height = kinematics[1][:, root, 2]
+        forces = motion["contact_force"][:, :, 2] if "contact_force" in motion else None
         heights_figure(motion_name, motion, soles, root_height, forces, os.path.join(trial_dir, "heights"))
         deepest = min(float(s["lowest"].min()) for s in soles) * 1000.0 if soles else float("nan")
         duration = float(motion["time"][-1] - motion["time"][0])
@@ -114,7 +106,7 @@ def watch(paths, model_path, robot_map_path, out_dir):
         rows.append([f'<a href="#motion-{html.escape(motion_name)}">{html.escape(motion_name)}</a>',
                      html.escape(os.path.relpath(path)), len(motion["time"]), f"{duration:.3f}", f"{rate:.1f}",
                      f"{deepest:.1f}", f"{root_height.min():.3f} – {root_height.max():.3f}",
-                     "motion.h5" if contact_source == "motion.h5" else "estimated"])
+                     contact_source])
         sections.append(
             f'<article id="motion-{html.escape(motion_name)}"><h3>{html.escape(motion_name)} '
             f'<button class="play" data-trial="{html.escape(motion_name)}" data-time="0">play in 3-D</button></h3>'
