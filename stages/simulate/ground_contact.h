@@ -2,7 +2,8 @@
 // `--contact ground`.
 //
 // Normal: Hunt and Crossley's force f_n = k δ^1.5 (1 + 1.5 c δ̇) on each sole point δ below the plane
-// (never pulling), the model Simbody's HuntCrossleyForce uses for sphere–half-space contact. Tangential:
+// (never pulling, within the implicit step too: releasePullingPoints), the model Simbody's
+// HuntCrossleyForce uses for sphere–half-space contact. Tangential:
 // an elastic stick–slip anchor per point (a bristle): a point that touches down is anchored where it
 // lands and pulled back by k_t (anchor − p) − b_t v, and where that exceeds μ f_n the anchor slides so
 // the force stays on the friction cone. Unlike a regularised Coulomb law (−μ f_n v / max(|v|, v_s)) a
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include "common/model.h"
 #include "common/robot_map.h"
@@ -53,6 +55,28 @@ class GroundContact {
   // start, is what acted: a sole point coming down at 2.7 m/s evaluates to 5 kN at the step's start, which
   // the implicit terms take back (CMU 07_06 onto G1: 20.6 kN evaluated, 1.6 kN applied in the same step).
   const std::vector<Eigen::Vector3d>& appliedFootForce(const Eigen::VectorXd& u, const Eigen::VectorXd& udot, double h);
+
+  // The floor never pulls, not even inside the implicit step. calcForces's normal force is a tangent at the
+  // step's start; a sole point yanked off the floor (a swing's start: 800 m/s² at its points) or bouncing
+  // off it within the step (a 2.6 m/s touchdown) crosses f_n = 0 during the step and the tangent runs on
+  // below zero: before this (session 41) the floor held feet down by up to 98 N at a recorded frame on 15
+  // of the 21 CMU walks onto G1, in 1 % of their recorded frames. So, after the step's solve:
+  //  1. releasePullingPoints: every touching point whose applied normal force (appliedFootForce's) is below
+  //     zero is taken out of the sums (`generalized`, `stiffness`, `damping` as calcForces left them, with
+  //     whatever else the caller added). Returns how many; none: the step stands.
+  //  2. the caller solves the step without them, and
+  //  3. releasedForces gives the released points what Hunt–Crossley gives at the end state they reach with
+  //     it: constant normal forces F ≥ 0 with F_p = f_n(depth_p − h v_p(F), v_p(F)), v_p the point's end
+  //     velocity, linear in F through `response` (the step's solve: response(r, out) sets out = u̇ for the
+  //     generalized force r). A point leaving the floor gets nothing; one landing hard the force that stops
+  //     it no more than the floor does (released outright it fell through the floor for the step: soles
+  //     26 mm deep on CMU walks). Their friction is calcForces's, kept inside μ F_p, a constant force too
+  //     (it is left out of the normal forces' solve). Returns their generalized force Σ J_pᵀ f_p, to add to
+  //     the step's and solve again.
+  int releasePullingPoints(const Eigen::VectorXd& u, const Eigen::VectorXd& udot, double h, Eigen::VectorXd& generalized,
+                           Eigen::MatrixXd& stiffness, Eigen::MatrixXd& damping);
+  template <typename Response>
+  const Eigen::VectorXd& releasedForces(const Eigen::VectorXd& u, const Eigen::VectorXd& udot, double h, const Response& response);
   // The deepest sole point below z = 0 at the last call (m, ≥ 0).
   double deepestPenetration() const { return deepest_; }
   // Per foot, whether any of its points touched at the last call.
@@ -68,7 +92,21 @@ class GroundContact {
     bool touching = false;
     Eigen::Vector3d force = Eigen::Vector3d::Zero(), stiffness = Eigen::Vector3d::Zero(), damping = Eigen::Vector3d::Zero();
     Eigen::Matrix<double, 3, Eigen::Dynamic> jacobian;
+    double depth = 0;        // below the plane at the step's start (m)
+    bool released = false;   // this step: its force is the constant `released_applied` (N), normal `released_force`
+    double released_force = 0;
+    Eigen::Vector3d released_applied = Eigen::Vector3d::Zero();
   };
+  // The force a touching point applies over the step once u̇ is solved (see appliedFootForce).
+  [[nodiscard]] static Eigen::Vector3d AppliedForce(const SolePoint& point, const Eigen::VectorXd& u, const Eigen::VectorXd& udot,
+                                                    double h);
+  // A released point's force: its normal force, and the friction calcForces gave it kept inside μ times that.
+  [[nodiscard]] Eigen::Vector3d ReleasedForce(const SolePoint& point) const;
+  // Hunt–Crossley's normal force at `depth` (m) and normal velocity `rising` (m/s, up); 0 off the floor.
+  [[nodiscard]] double NormalForce(double depth, double rising) const;
+  // releasedForces's consistent forces, given each released point's end velocity without them
+  // (`free_rising`) and R, their end velocities per unit force of each (released_response_).
+  void SolveReleasedForces(double h);
   GroundContactOptions options_;
   std::vector<int> foot_links_;
   std::vector<SolePoint> points_;
@@ -76,6 +114,45 @@ class GroundContact {
   std::vector<bool> foot_touches_;
   double deepest_ = 0;
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
+  // The released points' solve, in storage of a fixed largest size: no allocation per step.
+  static constexpr int kMaxSolePoints = 32;
+  using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxSolePoints, 1>;
+  using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxSolePoints, kMaxSolePoints>;
+  std::vector<int> released_;
+  SmallVector free_rising_, released_solution_, released_residual_;
+  SmallMatrix released_response_;  // R(i, j): point i's end velocity (up) per newton at point j
+  SmallMatrix released_newton_;
+  Eigen::PartialPivLU<SmallMatrix> released_lu_;
+  Eigen::VectorXd released_generalized_, unit_force_, unit_response_;
 };
+
+template <typename Response>
+const Eigen::VectorXd& GroundContact::releasedForces(const Eigen::VectorXd& u, const Eigen::VectorXd& udot, double h,
+                                                     const Response& response) {
+  const Eigen::Index n = static_cast<Eigen::Index>(released_.size());
+  free_rising_.resize(n);
+  released_response_.resize(n, n);
+  released_solution_.resize(n);
+  released_residual_.resize(n);
+  released_newton_.resize(n, n);
+  released_generalized_.setZero(u.size());
+  unit_force_.resize(u.size());
+  unit_response_.resize(u.size());
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const SolePoint& point = points_[static_cast<size_t>(released_[static_cast<size_t>(j)])];
+    free_rising_[j] = point.jacobian.row(2).dot(u) + h * point.jacobian.row(2).dot(udot);
+    unit_force_ = point.jacobian.row(2).transpose();
+    response(unit_force_, unit_response_);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      released_response_(i, j) = h * points_[static_cast<size_t>(released_[static_cast<size_t>(i)])].jacobian.row(2).dot(unit_response_);
+    }
+  }
+  SolveReleasedForces(h);
+  for (int p : released_) {
+    SolePoint& point = points_[static_cast<size_t>(p)];
+    released_generalized_.noalias() += point.jacobian.transpose() * ReleasedForce(point);
+  }
+  return released_generalized_;
+}
 
 }  // namespace syn

@@ -183,7 +183,8 @@ std::string SimulateSummary::FullReport() const {
         << " N; base wrench no sole force explains (RMS): " << unexplained_force_rms_n << " N, "
         << unexplained_torque_rms_nm << " N·m; joints on their mechanical stops in " << stopped_joint_steps
         << " joint-steps, at most " << worst_limit_excess_deg << " deg past a limit; held soles more than 3 deg off flat in "
-        << tilted_foot_steps << " of " << held_foot_steps << " foot-steps";
+        << tilted_foot_steps << " of " << held_foot_steps << " foot-steps; steps solved again without sole points that would pull: "
+        << released_contact_steps;
     out << "\n  held feet over the source's " << held_phases << " contact phases, from where each phase's first hold found"
         << " them: turned " << held_turn_median_deg << " deg median, " << held_turn_p95_deg << " p95, " << held_turn_max_deg
         << " at most; sole centre moved " << held_move_median_mm << " mm median, " << held_move_p95_mm << " p95, "
@@ -311,7 +312,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     // no sole on the floor, the robot falling for its first 40 ms with nothing to steer the centre of mass by).
     StandOnTheFloor(model, map, workspace, q);
   }
-  Eigen::VectorXd tau(nu), udot(nu), contact_forces(nu), applied(nu), planned_udot(nu);
+  Eigen::VectorXd tau(nu), udot(nu), contact_forces(nu), applied(nu), planned_udot(nu), released_forces(nu), released_udot(nu);
   Eigen::MatrixXd contact_stiffness(nu, nu), contact_damping(nu, nu), implicit_mass(nu, nu);
   Eigen::LDLT<Eigen::MatrixXd> implicit_solver(nu);
   std::vector<TaskReference> task_references;
@@ -356,11 +357,28 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     } else {
       // Linearly implicit in the contact and stop forces: (A + h B + h² K) u̇ = τ + f − b − g − h K u, the step
       // semi-implicit Euler takes with the forces at its end (u + h u̇, q + h (u + h u̇)) to first order.
-      applied = tau + contact_forces - controller.biasForces();
-      applied.noalias() -= dt * (contact_stiffness * u);
-      implicit_mass = controller.massMatrix() + dt * contact_damping + dt * dt * contact_stiffness;
-      implicit_solver.compute(implicit_mass);
-      udot = implicit_solver.solve(applied);
+      const auto solve = [&] {
+        applied = tau + contact_forces - controller.biasForces();
+        applied.noalias() -= dt * (contact_stiffness * u);
+        implicit_mass = controller.massMatrix() + dt * contact_damping + dt * dt * contact_stiffness;
+        implicit_solver.compute(implicit_mass);
+        udot = implicit_solver.solve(applied);
+      };
+      solve();
+      // Sole points whose tangent would pull over the step: solved again without them, then with the
+      // forces they reach at its end (ground_contact.h). Twice at most: the second round only for points the
+      // first round's forces turned to pulling.
+      for (int round = 0; ground && round < 2 &&
+                          ground_contact->releasePullingPoints(u, udot, dt, contact_forces, contact_stiffness, contact_damping) > 0;
+           ++round) {
+        solve();
+        released_forces = ground_contact->releasedForces(u, udot, dt, [&](const Eigen::VectorXd& force, Eigen::VectorXd& response) {
+          response = implicit_solver.solve(force);
+        });
+        released_udot = implicit_solver.solve(released_forces);
+        udot += released_udot;
+        if (round == 0) ++summary.released_contact_steps;
+      }
     }
     summary.saturated_entries += saturated;
     summary.saturated_steps += saturated > 0 ? 1 : 0;
@@ -377,6 +395,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     summary.peak_vertical_force_n = 0;
   }
   summary.stopped_joint_steps = 0;
+  summary.released_contact_steps = ground ? 0 : -1;
   summary.worst_limit_excess_deg = 0;
   // Ground mode with balance: per recorded frame, what a fall's message summarises (fall_diagnosis.h).
   std::vector<BalanceSample> balance_samples;

@@ -89,6 +89,8 @@ struct SimulateSummary {
   // joint went past its URDF limit (deg).
   int64_t stopped_joint_steps = -1;
   double worst_limit_excess_deg = -1;
+  // Ground mode: the steps solved again because sole points would have pulled (ground_contact.h).
+  int64_t released_contact_steps = -1;
   // Ground mode: the control steps × feet a planted foot was held on the floor (stance_feet.h), and those
   // with its sole more than 3° off flat (standing on an edge or a corner).
   int64_t held_foot_steps = -1;
