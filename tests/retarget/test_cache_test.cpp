@@ -4,24 +4,19 @@
 
 #include <unistd.h>
 
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <vector>
 
 #include "tests/support/demo_motion.h"
+#include "tests/support/scratch_file.h"
 #include "tests/support/shared_data.h"
 
 namespace syn {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool SameBits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
-}
 
 // The demo's 02_01 cut to its first `frames` frames, its root moved `shift` (the file's units) along X in the
 // last one.
@@ -57,8 +52,7 @@ void WriteShortWalk(const fs::path& path, int frames, double shift) {
 }
 
 TEST(RetargetTestCache, GivesBackWhatItComputedAndMissesAnEditedCapture) {
-  const fs::path dir = fs::temp_directory_path() / ("syn_test_cache_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = testing::ProcessScratchDir("syn_test_cache_");
   // A name of this process's own: the cache names its entries by the capture's stem, and these are removed
   // at the end.
   const std::string stem = "short_walk_" + std::to_string(::getpid());
@@ -67,8 +61,8 @@ TEST(RetargetTestCache, GivesBackWhatItComputedAndMissesAnEditedCapture) {
   const MotionData computed = testing::CmuBvhOnG1(walk.string());
   const MotionData cached = testing::CmuBvhOnG1(walk.string());
   ASSERT_GT(computed.frames(), 90);
-  EXPECT_TRUE(SameBits(computed.q, cached.q));
-  EXPECT_TRUE(SameBits(computed.tau, cached.tau));
+  EXPECT_TRUE(testing::SameBits(computed.q, cached.q));
+  EXPECT_TRUE(testing::SameBits(computed.tau, cached.tau));
   EXPECT_EQ(computed.contact, cached.contact);
 
   // The same file name, its last frame's root 2 units further along X (after the ingest's 0.5 s lead-in
@@ -76,8 +70,7 @@ TEST(RetargetTestCache, GivesBackWhatItComputedAndMissesAnEditedCapture) {
   WriteShortWalk(walk, 100, 2.0);
   const MotionData edited = testing::CmuBvhOnG1(walk.string());
   ASSERT_EQ(edited.frames(), computed.frames());
-  EXPECT_FALSE(SameBits(edited.q, computed.q)) << "the edited capture was served the cached motion";
-  fs::remove_all(dir);
+  EXPECT_FALSE(testing::SameBits(edited.q, computed.q)) << "the edited capture was served the cached motion";
   int entries = 0;
   for (const fs::directory_entry& entry : fs::directory_iterator(SYN_TEST_CACHE_DIR)) {
     if (entry.path().filename().string().rfind(stem + "-", 0) == 0) fs::remove(entry.path()), ++entries;

@@ -66,11 +66,6 @@ std::filesystem::path CachePath(const std::string& bvh_path) {
   return std::filesystem::path(SYN_TEST_CACHE_DIR) / name.str();
 }
 
-// Bit for bit: a landmark the retargeter could not measure has a NaN error, which == never matches.
-bool SameBits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
-}
-
 // The fields `a` and `b` differ in, comma-separated ("" when none).
 std::string MotionDifferences(const MotionData& a, const MotionData& b) {
   std::string differ;
@@ -98,6 +93,10 @@ std::string MotionDifferences(const MotionData& a, const MotionData& b) {
 }
 
 }  // namespace
+
+bool SameBits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
+}
 
 MotionData CmuBvhOnG1(const std::string& bvh_path) {
   const std::filesystem::path cached = CachePath(bvh_path);

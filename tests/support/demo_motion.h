@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "common/motion_file.h"
 
@@ -18,6 +19,10 @@ const MotionData& DemoMotionOnG1(const std::string& trial);
 // inputs' contents and the executable's size and time, and a motion is cached only if its file reads
 // back exactly as computed.
 MotionData CmuBvhOnG1(const std::string& bvh_path);
+
+// Whether `a` and `b` hold the same doubles bit for bit (NaN included, which == never matches: a landmark
+// the retargeter could not measure has a NaN error).
+bool SameBits(const std::vector<double>& a, const std::vector<double>& b);
 
 inline constexpr const char* kG1Urdf = "datasets/robots/unitree_g1/g1_29dof.urdf";
 inline constexpr const char* kG1Map = "manifests/robots/g1.toml";
