@@ -7,7 +7,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
+#include "common/error.h"
 #include "common/model.h"
 #include "common/robot_map.h"
 #include "stages/simulate/ground_contact.h"
@@ -130,6 +133,20 @@ TEST_F(GroundContactTest, ASolePressingOrRisingSlowlyKeepsItsForce) {
   double vertical = 0;
   for (const Eigen::Vector3d& force : contact.appliedFootForce(workspace.getU(), udot, 1e-3)) vertical += force.z();
   EXPECT_GT(vertical, 0.0);
+}
+
+// A robot map with more sole points than the released points' fixed-size solve holds is refused, naming
+// the count and the limit, not run with storage that overflows.
+TEST_F(GroundContactTest, ARobotMapWithTooManySolePointsIsRefused) {
+  std::vector<RobotFoot> feet = map.feet;
+  while (feet[0].sole_points.size() + feet[1].sole_points.size() <= 32) feet[0].sole_points.push_back({0.0, 0.0, -0.035});
+  try {
+    GroundContact contact(model, feet, GroundContactOptions{});
+    ADD_FAILURE() << "33 sole points accepted";
+  } catch (const UsageError& error) {
+    EXPECT_NE(std::string(error.what()).find("33 sole points"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("at most 32"), std::string::npos) << error.what();
+  }
 }
 
 }  // namespace
