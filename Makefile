@@ -18,6 +18,8 @@
 #                         a stage's output) in the report's 3-D player, with feet and root heights (outputs/watch/)
 #   make project [LIBRARY=... STYLE=walk]   the paper's text-to-motion experiment on the HumanML3D and MDM
 #                         joints in ../shared/datasets/humanml3d: before/after table in outputs/project/
+#   make ground-sweep [SIMULATE_FLAGS="--balance-gain 4"]   syn-simulate's ground mode on every shared CMU walk onto
+#                         the G1: up, or when it fell, per walk, and how many stay up (outputs/ground-sweep/)
 #   make test             build and run every test (ctest)
 #   make bench            Google Benchmark programs: per-call times and frames per second per stage
 #   make sanitize-test    the test suite on an ASan+UBSan build (clang, -O1, line tables)
@@ -47,7 +49,7 @@ FUZZ_PACKAGES := clang libclang-rt-14-dev
 # Only for `make cluster-up` (installed by tools/slurm/cluster-up.sh, which waits for the dpkg lock).
 SLURM_PACKAGES := slurmctld slurmd slurm-client munge
 
-.PHONY: all setup setup-fuzz setup-report report report-npm watch configure build test bench bench-archive demo run release compose studio project power-ratio sanitize-test fuzz-smoke clean print-packages cluster-up cluster-down check-cluster
+.PHONY: all setup setup-fuzz setup-report report report-npm watch configure build test bench ground-sweep bench-archive demo run release compose studio project power-ratio sanitize-test fuzz-smoke clean print-packages cluster-up cluster-down check-cluster
 .DEFAULT_GOAL := all
 
 all: demo
@@ -177,6 +179,11 @@ release: run
 
 demo:
 	@$(MAKE) --no-print-directory run MANIFEST=manifests/demo.toml
+
+# ---- ground mode on the shared CMU walks (issue 18) -------------------------------------
+SIMULATE_FLAGS ?=
+ground-sweep: build
+	@DATASETS=$(dir $(CMU_BVH:/=)) JOBS=$(JOBS) tools/dev/ground_sweep.sh $(BIN) $(OUTPUTS)/ground-sweep $(SIMULATE_FLAGS)
 
 # ---- scale: a generated archive -------------------------------------------------------
 CMU_BVH ?= ../shared/datasets/cmu_bvh
