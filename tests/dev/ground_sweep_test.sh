@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# CTest ground_sweep: tools/dev/ground_sweep.sh (make ground-sweep) on a two-walk index made from the shared
+# CMU index: 02_01, and 09_12, whose label holds quoted commas. Checks its report against the logs it keeps
+# (each walk's line is the stage's own verdict, the count is the walks up), that a second sweep reuses the
+# retargets and a newer input redoes one, and its refusals. Exit 77 = skipped (no shared datasets).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+build_dir=${1:-build}
+fail() { echo "FAIL: $*"; exit 1; }
+shared=../shared/datasets
+if [ ! -f $shared/cmu_bvh/index.csv ]; then
+  echo "SKIP: $shared/cmu_bvh/index.csv is absent"
+  exit 77
+fi
+work=$(mktemp -d "${TMPDIR:-/tmp}/ground_sweep_test.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+
+# A datasets folder with the index's header and two of its walks, the BVH files linked.
+mkdir -p $work/datasets/cmu_bvh
+index=$shared/cmu_bvh/index.csv
+{ head -n 1 $index; grep -E '^[0-9]+,(02_01|09_12),' $index; } > $work/datasets/cmu_bvh/index.csv
+[ "$(wc -l < $work/datasets/cmu_bvh/index.csv)" = 3 ] || fail "02_01 or 09_12 missing from $index"
+grep -q '"navigate - walk forward, backward, sideways"' $work/datasets/cmu_bvh/index.csv ||
+  fail "09_12's label no longer holds commas: pick another walk for the CSV check"
+# 09_12 copied, so that touching it below leaves the shared file alone.
+mkdir -p $work/datasets/cmu_bvh/02 $work/datasets/cmu_bvh/09
+ln -s "$(realpath $shared/cmu_bvh/02/02_01.bvh)" $work/datasets/cmu_bvh/02/02_01.bvh
+cp $shared/cmu_bvh/09/09_12.bvh $work/datasets/cmu_bvh/09/09_12.bvh
+
+out=$work/sweep
+DATASETS=$work/datasets JOBS=2 tools/dev/ground_sweep.sh $build_dir/bin $out > $work/report.txt 2> $work/stderr.txt ||
+  fail "the sweep failed: $(cat $work/report.txt $work/stderr.txt)"
+cat $work/report.txt
+# Each walk's line is what its syn-simulate -v log says: up with the log's real-time figure, or the fall's time.
+for trial in 02_01 09_12; do
+  log=$out/simulate/$trial.log
+  [ -f $log ] && [ -f $out/retarget/$trial.g1.h5 ] || fail "$trial: no log or retarget kept"
+  line=$(grep "^$trial " $work/report.txt) || fail "$trial: no line in the report"
+  if fell=$(grep -o 'fell at t = [0-9.]* s' $log | head -n 1); then
+    [ "$line" = "$trial $fell" ] || fail "$trial: the report says '$line', its log '$fell'"
+    [ ! -e $out/simulate/$trial.sim.h5 ] || fail "$trial fell but has an output"
+  else
+    speed=$(grep -o '[0-9.]*x real time' $log | tail -n 1)
+    [ -n "$speed" ] && [ "$line" = "$trial up $speed" ] || fail "$trial: the report says '$line', its log ends: $(tail -n 2 $log)"
+    [ -f $out/simulate/$trial.sim.h5 ] || fail "$trial up but no output"
+  fi
+done
+up=$(grep -c -E '^[0-9_]+ up ' $work/report.txt || true)
+tail -n 1 $work/report.txt | grep -qx "ground mode: $up of 2 CMU walks stay up" ||
+  fail "the count line does not match the $up walks reported up"
+
+# Flags reach syn-simulate (its parameters line), and the retargets are reused unless an input is newer.
+before=$(stat -c %.9Y $out/retarget/02_01.g1.h5)
+before_changed=$(stat -c %.9Y $out/retarget/09_12.g1.h5)
+sleep 1
+touch $work/datasets/cmu_bvh/09/09_12.bvh  # newer than its retarget
+DATASETS=$work/datasets JOBS=2 tools/dev/ground_sweep.sh $build_dir/bin $out --balance-gain 4 > $work/report2.txt 2>&1 ||
+  fail "the second sweep failed: $(cat $work/report2.txt)"
+[ "$(stat -c %.9Y $out/retarget/02_01.g1.h5)" = "$before" ] || fail "02_01's retarget was redone with nothing newer"
+[ "$(stat -c %.9Y $out/retarget/09_12.g1.h5)" != "$before_changed" ] || fail "09_12's retarget was not redone after its BVH changed"
+grep -q '"balance_gain":4.0' $out/simulate/02_01.log || fail "--balance-gain 4 did not reach syn-simulate"
+tail -n 1 $work/report2.txt | grep -q "^ground mode (--balance-gain 4): [0-2] of 2 CMU walks stay up$" ||
+  fail "the count line does not name the flags: $(tail -n 1 $work/report2.txt)"
+
+# Refusals: exit 2 and why, for a missing index and a missing stage.
+set +e
+DATASETS=$work/nowhere tools/dev/ground_sweep.sh $build_dir/bin $work/x > $work/refusal.txt 2>&1
+status=$?
+set -e
+[ $status = 2 ] && grep -q "no CMU index at $work/nowhere/cmu_bvh/index.csv" $work/refusal.txt ||
+  fail "a missing index: exit $status, $(cat $work/refusal.txt)"
+set +e
+DATASETS=$work/datasets tools/dev/ground_sweep.sh $work $work/x > $work/refusal.txt 2>&1
+status=$?
+set -e
+[ $status = 2 ] && grep -q "syn-ingest not built" $work/refusal.txt || fail "no stages: exit $status, $(cat $work/refusal.txt)"
+echo "PASS"
