@@ -28,7 +28,7 @@ ln -s "$(realpath $shared/cmu_bvh/02/02_01.bvh)" $work/datasets/cmu_bvh/02/02_01
 cp $shared/cmu_bvh/09/09_12.bvh $work/datasets/cmu_bvh/09/09_12.bvh
 
 out=$work/sweep
-DATASETS=$work/datasets JOBS=2 tools/dev/ground_sweep.sh $build_dir/bin $out > $work/report.txt 2> $work/stderr.txt ||
+CMU_BVH=$work/datasets/cmu_bvh JOBS=2 tools/dev/ground_sweep.sh $build_dir/bin $out > $work/report.txt 2> $work/stderr.txt ||
   fail "the sweep failed: $(cat $work/report.txt $work/stderr.txt)"
 cat $work/report.txt
 # Each walk's line is what its syn-simulate -v log says: up with the log's real-time figure, or the fall's time.
@@ -54,7 +54,7 @@ before=$(stat -c %.9Y $out/retarget/02_01.g1.h5)
 before_changed=$(stat -c %.9Y $out/retarget/09_12.g1.h5)
 sleep 1
 touch $work/datasets/cmu_bvh/09/09_12.bvh  # newer than its retarget
-DATASETS=$work/datasets JOBS=2 tools/dev/ground_sweep.sh $build_dir/bin $out --balance-gain 4 > $work/report2.txt 2>&1 ||
+CMU_BVH=$work/datasets/cmu_bvh JOBS=2 tools/dev/ground_sweep.sh $build_dir/bin $out --balance-gain 4 > $work/report2.txt 2>&1 ||
   fail "the second sweep failed: $(cat $work/report2.txt)"
 [ "$(stat -c %.9Y $out/retarget/02_01.g1.h5)" = "$before" ] || fail "02_01's retarget was redone with nothing newer"
 [ "$(stat -c %.9Y $out/retarget/09_12.g1.h5)" != "$before_changed" ] || fail "09_12's retarget was not redone after its BVH changed"
@@ -64,13 +64,13 @@ tail -n 1 $work/report2.txt | grep -q "^ground mode (--balance-gain 4): [0-2] of
 
 # Refusals: exit 2 and why, for a missing index and a missing stage.
 set +e
-DATASETS=$work/nowhere tools/dev/ground_sweep.sh $build_dir/bin $work/x > $work/refusal.txt 2>&1
+CMU_BVH=$work/nowhere/cmu_bvh tools/dev/ground_sweep.sh $build_dir/bin $work/x > $work/refusal.txt 2>&1
 status=$?
 set -e
 [ $status = 2 ] && grep -q "no CMU index at $work/nowhere/cmu_bvh/index.csv" $work/refusal.txt ||
   fail "a missing index: exit $status, $(cat $work/refusal.txt)"
 set +e
-DATASETS=$work/datasets tools/dev/ground_sweep.sh $work $work/x > $work/refusal.txt 2>&1
+CMU_BVH=$work/datasets/cmu_bvh tools/dev/ground_sweep.sh $work $work/x > $work/refusal.txt 2>&1
 status=$?
 set -e
 [ $status = 2 ] && grep -q "syn-ingest not built" $work/refusal.txt || fail "no stages: exit $status, $(cat $work/refusal.txt)"

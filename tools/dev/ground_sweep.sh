@@ -4,7 +4,7 @@
 #
 #   tools/dev/ground_sweep.sh BIN_DIR OUT_DIR [syn-simulate flags ...]
 #
-# The walks are index.csv's motion_class "walk" under $DATASETS/cmu_bvh (default ../shared/datasets),
+# The walks are index.csv's motion_class "walk" in $CMU_BVH (default ../shared/datasets/cmu_bvh),
 # ingested and retargeted as the pipeline does for CMU BVH (manifests/demo.toml: --drop-first-frame, the
 # cmu-bvh marker set). Retargets are kept in OUT_DIR/retarget and redone only when an input or a stage is
 # newer, so a sweep over settings pays for them once. $JOBS walks at a time (default: the cores).
@@ -19,10 +19,10 @@ fi
 bin=$(realpath "$1")
 out=$2
 shift 2
-datasets=${DATASETS:-../shared/datasets}
-index=$datasets/cmu_bvh/index.csv
+cmu=${CMU_BVH:-../shared/datasets/cmu_bvh}
+index=$cmu/index.csv
 if [ ! -f "$index" ]; then
-  echo "ground-sweep: no CMU index at $index (set DATASETS to the shared datasets folder)" >&2
+  echo "ground-sweep: no CMU index at $index (set CMU_BVH to the shared CMU BVH folder)" >&2
   exit 2
 fi
 for stage in syn-ingest syn-retarget syn-simulate; do
@@ -40,11 +40,11 @@ if [ -z "$walks" ]; then
   exit 2
 fi
 
-export bin out datasets
+export bin out cmu
 export SIMULATE_FLAGS="$*"
 run_walk() {
   local name=$1 file=$2
-  local bvh=$datasets/cmu_bvh/$file motion=$out/retarget/$name.g1.h5 markers=$out/retarget/$name.markers.h5
+  local bvh=$cmu/$file motion=$out/retarget/$name.g1.h5 markers=$out/retarget/$name.markers.h5
   local model=datasets/robots/unitree_g1/g1_29dof.urdf map=manifests/robots/g1.toml markerset=manifests/markersets/cmu-bvh.toml
   local stale=0 input
   for input in "$bvh" "$model" "$map" "$markerset" "$bin/syn-ingest" "$bin/syn-retarget"; do
