@@ -15,7 +15,9 @@
 // than six dimensions). The step towards y stops at the first column it would make negative, which
 // joins the working set; at y, a held column with A_iᵀ μ > 0 (its multiplier negative) is freed. Every
 // step keeps A x = w, so the wrench is reproduced to rounding, also where it lies on the cone's boundary
-// (a dual method's multipliers run off to infinity there).
+// (a dual method's multipliers run off to infinity there). At a degenerate vertex (more columns at zero
+// than w needs) a freed column can be held again at once with no move; it is not freed again until x
+// moves, which ends the method where it had cycled to its iteration cap on a quarter of ground mode's calls.
 #pragma once
 
 #include <Eigen/Core>
@@ -34,7 +36,8 @@ class LeastNormConeCombination {
 
  private:
   Eigen::VectorXd target_;
-  Eigen::Matrix<bool, Eigen::Dynamic, 1> held_;  // in the working set: held at zero
+  Eigen::Matrix<bool, Eigen::Dynamic, 1> held_;   // in the working set: held at zero
+  Eigen::Matrix<bool, Eigen::Dynamic, 1> tried_;  // freed since x last moved
 };
 
 }  // namespace syn
