@@ -50,8 +50,10 @@ int LeastNormConeCombination::solve(const Eigen::Ref<const NonnegativeLeastSquar
     gram = gram.selfadjointView<Eigen::Lower>();
     Eigen::Matrix<double, 6, 1> multiplier;
     cholesky.compute(gram);
-    const double least_pivot = cholesky.matrixLLT().diagonal().cwiseAbs2().minCoeff();
-    if (cholesky.info() == Eigen::Success && least_pivot > kWellConditionedPivot * std::max(gram.trace(), scale * scale)) {
+    const bool well_conditioned =
+        cholesky.info() == Eigen::Success &&
+        cholesky.matrixLLT().diagonal().cwiseAbs2().minCoeff() > kWellConditionedPivot * std::max(gram.trace(), scale * scale);
+    if (well_conditioned) {
       multiplier = cholesky.solve(w);
     } else {
       eigen.compute(gram);

@@ -144,39 +144,6 @@ Eigen::VectorXd LeastNormByEnumeration(const NonnegativeLeastSquares::Rows& a, c
   return best;
 }
 
-// Random cones of sole-like columns and wrenches inside them, many on the cone's boundary (half the
-// mixing weights zero): the split reproduces the wrench, stays non-negative, and is the least-norm one.
-TEST(LeastNormConeCombination, MatchesEnumerationOfEverySupport) {
-  std::mt19937 random(11);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  LeastNormConeCombination solver(64);
-  int most_iterations = 0;
-  for (int trial = 0; trial < 40; ++trial) {
-    const int n = trial < 30 ? 8 + 2 * (trial % 3) : 64;  // the last ten as many columns as G1's two feet have
-    NonnegativeLeastSquares::Rows a(6, n);
-    for (int c = 0; c < n; ++c) {
-      const Eigen::Vector3d arm(uniform(random), uniform(random), -0.7);
-      const Eigen::Vector3d edge(0.8 * uniform(random), 0.8 * uniform(random), 1.0);
-      a.col(c) << arm.cross(edge), edge;
-    }
-    Eigen::VectorXd mix(n);
-    for (int c = 0; c < n; ++c) mix(c) = std::max(0.0, uniform(random)) * 100;
-    const Wrench w = a * mix;
-    Eigen::VectorXd x = mix;
-    const int iterations = solver.solve(a, x);
-    most_iterations = std::max(most_iterations, iterations);
-    EXPECT_GE(x.minCoeff(), 0.0);
-    EXPECT_LT((a * x - w).norm(), 1e-10 * w.norm()) << "trial " << trial;
-    EXPECT_LE(x.norm(), mix.norm() * (1 + 1e-12)) << "trial " << trial;
-    if (n <= 12) {
-      const Eigen::VectorXd reference = LeastNormByEnumeration(a, w);
-      ASSERT_EQ(reference.size(), n);
-      EXPECT_LT((x - reference).norm(), 1e-8 * reference.norm()) << "trial " << trial;
-    }
-  }
-  std::cout << "least-norm split: at most " << most_iterations << " active-set iterations\n";
-}
-
 // The optimality conditions of min ½‖x‖² subject to A x = w, x ≥ 0 for the solver's x from `start`:
 // x ≥ 0, A x = w, and x = max(0, Aᵀμ) for the μ its positive entries give (x_P = A_Pᵀ μ), checked where
 // those entries determine μ. Returns whether they did.
@@ -207,6 +174,37 @@ bool ExpectLeastNorm(const NonnegativeLeastSquares::Rows& a, const Eigen::Vector
     }
   }
   return true;
+}
+
+// Random cones of sole-like columns and wrenches inside them, many on the cone's boundary (half the
+// mixing weights zero): the split reproduces the wrench, stays non-negative, and is the least-norm one.
+TEST(LeastNormConeCombination, MatchesEnumerationOfEverySupport) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  LeastNormConeCombination solver(64);
+  int most_iterations = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = trial < 30 ? 8 + 2 * (trial % 3) : 64;  // the last ten as many columns as G1's two feet have
+    NonnegativeLeastSquares::Rows a(6, n);
+    for (int c = 0; c < n; ++c) {
+      const Eigen::Vector3d arm(uniform(random), uniform(random), -0.7);
+      const Eigen::Vector3d edge(0.8 * uniform(random), 0.8 * uniform(random), 1.0);
+      a.col(c) << arm.cross(edge), edge;
+    }
+    Eigen::VectorXd mix(n);
+    for (int c = 0; c < n; ++c) mix(c) = std::max(0.0, uniform(random)) * 100;
+    const Wrench w = a * mix;
+    Eigen::VectorXd x = mix;
+    const int iterations = solver.solve(a, x);
+    most_iterations = std::max(most_iterations, iterations);
+    ExpectLeastNorm(a, mix, x, "trial " + std::to_string(trial));
+    if (n <= 12) {
+      const Eigen::VectorXd reference = LeastNormByEnumeration(a, w);
+      ASSERT_EQ(reference.size(), n);
+      EXPECT_LT((x - reference).norm(), 1e-8 * reference.norm()) << "trial " << trial;
+    }
+  }
+  std::cout << "least-norm split: at most " << most_iterations << " active-set iterations\n";
 }
 
 // The cones of G1's soles as syn-simulate meets them: one or both feet flat, their 4 sole points with 8
