@@ -18,8 +18,9 @@
 #                         a stage's output) in the report's 3-D player, with feet and root heights (outputs/watch/)
 #   make project [LIBRARY=... STYLE=walk]   the paper's text-to-motion experiment on the HumanML3D and MDM
 #                         joints in ../shared/datasets/humanml3d: before/after table in outputs/project/
-#   make ground-sweep [SIMULATE_FLAGS="--balance-gain 4" CMU_BVH=...]   syn-simulate's ground mode on every CMU walk
-#                         onto the G1: up, or when it fell, per walk, and how many stay up (outputs/ground-sweep/)
+#   make ground-sweep [SIMULATE_FLAGS="--balance-gain 4" CMU_BVH=... RUNS=16]   syn-simulate's ground mode on every
+#                         CMU walk onto the G1: up, or when it fell, per walk, and how many stay up (outputs/ground-sweep/);
+#                         RUNS=N: N runs with a gain moved at the rounding level, per walk in how many it stayed up
 #   make test             build and run every test (ctest)
 #   make bench            Google Benchmark programs: per-call times and frames per second per stage
 #   make sanitize-test    the test suite on an ASan+UBSan build (clang, -O1, line tables)
@@ -182,8 +183,9 @@ demo:
 
 # ---- ground mode on the shared CMU walks (issue 18) -------------------------------------
 SIMULATE_FLAGS ?=
+RUNS ?= 1
 ground-sweep: build
-	@CMU_BVH=$(CMU_BVH) JOBS=$(JOBS) tools/dev/ground_sweep.sh $(BIN) $(OUTPUTS)/ground-sweep $(SIMULATE_FLAGS)
+	@CMU_BVH=$(CMU_BVH) JOBS=$(JOBS) RUNS=$(RUNS) tools/dev/ground_sweep.sh $(BIN) $(OUTPUTS)/ground-sweep $(SIMULATE_FLAGS)
 
 # ---- scale: a generated archive -------------------------------------------------------
 CMU_BVH ?= ../shared/datasets/cmu_bvh

@@ -115,6 +115,8 @@ int main(int argc, char** argv) {
     if (!fall_record.empty() && std::filesystem::path(fall_record) == std::filesystem::path(common.output)) {
       throw syn::UsageError("--fall-record must name another file than -o (a fall leaves no output)");
     }
+    // Before the simulation, so that a run that falls says with what it fell.
+    if (common.verbose) std::cerr << "syn-simulate: parameters " << syn::CanonicalJson(parameters()) << "\n";
     const syn::Model model = syn::LoadModel(model_path, floating_base);
     syn::PrintWarnings("syn-simulate", model.warnings());
     const syn::RobotMap map = syn::LoadRobotMap(map_path);
@@ -145,10 +147,7 @@ int main(int argc, char** argv) {
     syn::IntermediateWriter writer(common.output, provenance);
     syn::WriteMotionData(writer, result.motion);
     writer.commit();
-    if (common.verbose) {
-      std::cerr << "syn-simulate: parameters " << syn::CanonicalJson(parameters()) << "\n"
-                << result.summary.FullReport() << "\n";
-    }
+    if (common.verbose) std::cerr << result.summary.FullReport() << "\n";
     const double simulated = motion.time_s.back() - motion.time_s.front();
     std::cerr << "syn-simulate: " << input << " -> " << common.output << ": " << result.summary.BriefReport() << "; "
               << (wall > 0 ? simulated / wall : 0.0) << "x real time\n";

@@ -2,7 +2,8 @@
 # CTest ground_sweep: tools/dev/ground_sweep.sh (make ground-sweep) on a two-walk index made from the shared
 # CMU index: 02_01, and 09_12, whose label holds quoted commas. Checks its report against the logs it keeps
 # (each walk's line is the stage's own verdict, the count is the walks up), that a second sweep reuses the
-# retargets and a newer input redoes one, and its refusals. Exit 77 = skipped (no shared datasets).
+# retargets and a newer input redoes one, the RUNS ensemble's tallies against its runs' logs, and its
+# refusals. Exit 77 = skipped (no shared datasets).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build_dir=${1:-build}
@@ -61,6 +62,51 @@ CMU_BVH=$work/datasets/cmu_bvh JOBS=2 tools/dev/ground_sweep.sh $build_dir/bin $
 grep -q '"balance_gain":4.0' $out/simulate/02_01.log || fail "--balance-gain 4 did not reach syn-simulate"
 tail -n 1 $work/report2.txt | grep -q "^ground mode (--balance-gain 4): [0-2] of 2 CMU walks stay up$" ||
   fail "the count line does not name the flags: $(tail -n 1 $work/report2.txt)"
+
+# RUNS=2: two sweeps with the gain, then kv, moved by 10⁻⁹ of the value the flags give (the user's --kv 30
+# replaced, --swing-lift kept); each walk's tally and fall times, and the mean, agree with the runs' logs.
+CMU_BVH=$work/datasets/cmu_bvh JOBS=2 RUNS=2 tools/dev/ground_sweep.sh $build_dir/bin $out --kv 30 --swing-lift 0.05 \
+  > $work/report3.txt 2>&1 || fail "the ensemble failed: $(cat $work/report3.txt)"
+cat $work/report3.txt
+python3 - "$out/runs" "$work/report3.txt" <<'CHECK' || fail "the ensemble's report does not match its runs' logs"
+import json, pathlib, re, sys
+runs, report = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2]).read_text()
+expected = {1: (3.5 * (1 + 1e-9), 30.0), 2: (3.5, 30.0 * (1 + 1e-9))}
+counts = {1: 0, 2: 0}
+for trial in ("02_01", "09_12"):
+    up, times = 0, []
+    for k in (1, 2):
+        log = (runs / str(k) / "simulate" / f"{trial}.log").read_text()
+        p = json.loads(re.search(r"^syn-simulate: parameters (\{.*\})$", log, re.M).group(1))
+        gain, kv = expected[k]
+        assert abs(p["balance_gain"] - gain) < 1e-15 * gain and abs(p["kv"] - kv) < 1e-15 * kv, (k, trial, p)
+        assert p["swing_lift"] == 0.05, p
+        fell = re.search(r"fell at t = ([0-9.]+) s", log)
+        if fell:
+            times.append(float(fell.group(1)))
+        else:
+            up += 1
+            counts[k] += 1
+    line = re.search(rf"^{trial} up in (\d+) of 2 runs(?: \(fell at ([0-9.]+)(?:-([0-9.]+))? s\))?$", report, re.M)
+    assert line, f"no line for {trial}"
+    assert int(line.group(1)) == up, (trial, line.group(0), up)
+    if times:
+        assert float(line.group(2)) == min(times) and float(line.group(3) or line.group(2)) == max(times), (line.group(0), times)
+    else:
+        assert line.group(2) is None, line.group(0)
+for k in (1, 2):
+    assert re.search(rf"^run {k} \(.*\): {counts[k]} of 2 up$", report, re.M), (k, counts[k])
+mean = (counts[1] + counts[2]) / 2
+last = report.strip().splitlines()[-1]
+assert last == (f"ground mode (--swing-lift 0.05), 2 rounding-level runs: {mean:.2f} of 2 CMU walks stay up on average "
+                f"({min(counts.values())}-{max(counts.values())})"), last
+CHECK
+set +e
+RUNS=two tools/dev/ground_sweep.sh $build_dir/bin $out > $work/refusal.txt 2>&1
+status=$?
+set -e
+[ $status = 2 ] && grep -q "RUNS must be a positive whole number, got 'two'" $work/refusal.txt ||
+  fail "RUNS=two: exit $status, $(cat $work/refusal.txt)"
 
 # Refusals: exit 2 and why, for a missing index and a missing stage.
 set +e

@@ -10,6 +10,12 @@
 # newer, so a sweep over settings pays for them once. $JOBS walks at a time (default: the cores).
 # Prints per walk "up" or the fall's time, and the simulation's speed; each walk's -v log is in
 # OUT_DIR/simulate/NAME.log.
+#
+# RUNS=N (N > 1): which walks stay up moves with the arithmetic's rounding (README: "the takes that fall"),
+# so one sweep is one draw. This runs N sweeps instead, run k with the balance gain (odd k) or kv (even k)
+# moved by ±⌈k/2⌉ × 10⁻⁹ of its value (+ for odd ⌈k/2⌉), the other flags as given, each in
+# OUT_DIR/runs/K/, and prints per walk in how many runs it stayed up (and where it fell), each run's
+# count and their mean: what the issue notes call an ensemble.
 set -euo pipefail
 
 if [ $# -lt 2 ]; then
@@ -28,8 +34,7 @@ fi
 for stage in syn-ingest syn-retarget syn-simulate; do
   [ -x "$bin/$stage" ] || { echo "ground-sweep: $bin/$stage not built (make build)" >&2; exit 2; }
 done
-mkdir -p "$out/retarget" "$out/simulate"
-rm -f "$out"/simulate/*.log "$out"/simulate/*.result
+mkdir -p "$out/retarget"
 
 # trial and BVH path per walk, in index order (the label column may hold quoted commas: read it as CSV).
 walks=$(python3 -c 'import csv, sys
@@ -40,10 +45,11 @@ if [ -z "$walks" ]; then
   exit 2
 fi
 
-export bin out cmu
-export SIMULATE_FLAGS="$*"
+export bin cmu out
+# One walk: its retarget (in $out/retarget, redone only when stale) and ground mode with $SIMULATE_FLAGS,
+# the log and the one-line result in SIMULATE_DIR.
 run_walk() {
-  local name=$1 file=$2
+  local simulate=$1 name=$2 file=$3
   local bvh=$cmu/$file motion=$out/retarget/$name.g1.h5 markers=$out/retarget/$name.markers.h5
   local model=datasets/robots/unitree_g1/g1_29dof.urdf map=manifests/robots/g1.toml markerset=manifests/markersets/cmu-bvh.toml
   local stale=0 input
@@ -54,22 +60,90 @@ run_walk() {
     "$bin/syn-ingest" "$bvh" --drop-first-frame -o "$markers" 2> "$out/retarget/$name.log" &&
       "$bin/syn-retarget" "$markers" -o "$motion" --model "$model" --robot-map "$map" --markerset "$markerset" \
         2>> "$out/retarget/$name.log" ||
-      { echo "$name retarget-failed (see $out/retarget/$name.log)" > "$out/simulate/$name.result"; return 0; }
+      { echo "$name retarget-failed (see $out/retarget/$name.log)" > "$simulate/$name.result"; return 0; }
   fi
-  local log=$out/simulate/$name.log
+  local log=$simulate/$name.log
   # shellcheck disable=SC2086  # the flags are words
-  if "$bin/syn-simulate" "$motion" -o "$out/simulate/$name.sim.h5" --model "$model" --robot-map "$map" \
+  if "$bin/syn-simulate" "$motion" -o "$simulate/$name.sim.h5" --model "$model" --robot-map "$map" \
       --contact ground -v $SIMULATE_FLAGS > "$log" 2>&1; then
-    echo "$name up $(grep -o '[0-9.]*x real time' "$log" | tail -n 1)" > "$out/simulate/$name.result"
+    echo "$name up $(grep -o '[0-9.]*x real time' "$log" | tail -n 1)" > "$simulate/$name.result"
   else
     local fell
     fell=$(grep -o 'fell at t = [0-9.]* s' "$log" | head -n 1)
-    echo "$name ${fell:-failed (see $log)}" > "$out/simulate/$name.result"
+    echo "$name ${fell:-failed (see $log)}" > "$simulate/$name.result"
   fi
 }
 export -f run_walk
-echo "$walks" | xargs -P "${JOBS:-$(nproc)}" -L 1 bash -c 'run_walk "$0" "$1"'
 
-cat "$out"/simulate/*.result
-up=$(cat "$out"/simulate/*.result | awk '$2 == "up"' | wc -l)
-echo "ground mode${*:+ ($*)}: $up of $(echo "$walks" | wc -l) CMU walks stay up"
+# One sweep: every walk with the flags in $SIMULATE_FLAGS, its results in SWEEP_DIR/simulate. Every sweep
+# shares $out/retarget.
+sweep() {
+  local dir=$1
+  mkdir -p "$dir/simulate"
+  rm -f "$dir"/simulate/*.log "$dir"/simulate/*.result "$dir"/simulate/*.sim.h5
+  echo "$walks" | xargs -P "${JOBS:-$(nproc)}" -L 1 bash -c 'run_walk "$0" "$1" "$2"' "$dir/simulate"
+}
+walk_count=$(echo "$walks" | wc -l)
+runs=${RUNS:-1}
+[[ $runs =~ ^[1-9][0-9]*$ ]] || { echo "ground-sweep: RUNS must be a positive whole number, got '$runs'" >&2; exit 2; }
+
+if [ "$runs" = 1 ]; then
+  export SIMULATE_FLAGS="$*"
+  sweep "$out"
+  cat "$out"/simulate/*.result
+  up=$(cat "$out"/simulate/*.result | awk '$2 == "up"' | wc -l)
+  echo "ground mode${*:+ ($*)}: $up of $walk_count CMU walks stay up"
+  exit 0
+fi
+
+# The ensemble. The balance gain and kv the flags give (syn-simulate's own defaults otherwise), and the
+# flags without them, so that each run can set both.
+# shellcheck disable=SC2068  # the flags are words
+parameters=$("$bin/syn-simulate" --print-parameters --contact ground $@) ||
+  { echo "ground-sweep: syn-simulate refused the flags: $*" >&2; exit 2; }
+read -r gain kv < <(python3 -c 'import json, sys
+p = json.loads(sys.argv[1]); print(repr(p["balance_gain"]), repr(p["kv"]))' "$parameters")
+other=()
+while [ $# -gt 0 ]; do
+  case $1 in
+    --balance-gain | --kv) shift 2 ;;
+    --balance-gain=* | --kv=*) shift ;;
+    *) other+=("$1"); shift ;;
+  esac
+done
+rm -rf "$out/runs"
+for k in $(seq 1 "$runs"); do
+  read -r run_gain run_kv < <(python3 -c 'import sys
+k, gain, kv = int(sys.argv[1]), float(sys.argv[2]), float(sys.argv[3])
+step = (k + 1) // 2
+factor = 1 + (1 if step % 2 else -1) * step * 1e-9
+print(repr(gain * factor) if k % 2 else repr(gain), repr(kv) if k % 2 else repr(kv * factor))' "$k" "$gain" "$kv")
+  export SIMULATE_FLAGS="${other[*]} --balance-gain $run_gain --kv $run_kv"
+  sweep "$out/runs/$k"
+  up=$(cat "$out/runs/$k"/simulate/*.result | awk '$2 == "up"' | wc -l)
+  echo "run $k (--balance-gain $run_gain --kv $run_kv): $up of $walk_count up"
+done
+python3 - "$out/runs" "$runs" "$walk_count" "${other[*]}" <<'REPORT'
+import pathlib, re, sys
+root, runs, walks, flags = pathlib.Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+up, falls, counts = {}, {}, []
+for k in range(1, runs + 1):
+    lines = [p.read_text().split() for p in sorted((root / str(k) / "simulate").glob("*.result"))]
+    counts.append(sum(1 for line in lines if line[1] == "up"))
+    for line in lines:
+        up.setdefault(line[0], 0)
+        if line[1] == "up":
+            up[line[0]] += 1
+        else:
+            time = re.search(r"fell at t = ([0-9.]+) s", " ".join(line))
+            falls.setdefault(line[0], []).append(float(time.group(1)) if time else None)
+for name in sorted(up):
+    times = [t for t in falls.get(name, []) if t is not None]
+    span = f"{min(times):g}" if times and min(times) == max(times) else f"{min(times, default=0):g}-{max(times, default=0):g}"
+    where = f" (fell at {span} s)" if times else ""
+    print(f"{name} up in {up[name]} of {runs} runs{where}")
+mean = sum(counts) / runs
+label = f" ({flags})" if flags else ""
+print(f"ground mode{label}, {runs} rounding-level runs: {mean:.2f} of {walks} CMU walks stay up on average "
+      f"({min(counts)}-{max(counts)})")
+REPORT
