@@ -98,8 +98,7 @@ fi
 
 # The ensemble. The balance gain and kv the flags give (syn-simulate's own defaults otherwise), and the
 # flags without them, so that each run can set both.
-# shellcheck disable=SC2068  # the flags are words
-parameters=$("$bin/syn-simulate" --print-parameters --contact ground $@) ||
+parameters=$("$bin/syn-simulate" --print-parameters --contact ground "$@") ||
   { echo "ground-sweep: syn-simulate refused the flags: $*" >&2; exit 2; }
 read -r gain kv < <(python3 -c 'import json, sys
 p = json.loads(sys.argv[1]); print(repr(p["balance_gain"]), repr(p["kv"]))' "$parameters")
@@ -139,8 +138,10 @@ for k in range(1, runs + 1):
             falls.setdefault(line[0], []).append(float(time.group(1)) if time else None)
 for name in sorted(up):
     times = [t for t in falls.get(name, []) if t is not None]
-    span = f"{min(times):g}" if times and min(times) == max(times) else f"{min(times, default=0):g}-{max(times, default=0):g}"
-    where = f" (fell at {span} s)" if times else ""
+    where = ""
+    if times:
+        low, high = min(times), max(times)
+        where = f" (fell at {low:g} s)" if low == high else f" (fell at {low:g}-{high:g} s)"
     print(f"{name} up in {up[name]} of {runs} runs{where}")
 mean = sum(counts) / runs
 label = f" ({flags})" if flags else ""
