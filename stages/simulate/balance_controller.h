@@ -22,7 +22,9 @@
 // rate (damped toward the plan's, clipped to the support) fought the arms, a standing G1's wrists ended
 // 31° off, and the walks fell no later.
 // The base task's horizontal target is rewritten to the measured centre of mass plus the reference's
-// offset of the base from it: its PD keeps the body's shape, the level moves it.
+// offset of the base from it. The controller solves only that task's orientation rows in ground mode
+// (ControllerTasks, simulation.h: the level moves the base); the target is what the pelvis's position
+// error is measured against.
 // Where no sole touches (a jump, a fall), the level is cleared and the body moves ballistically.
 //
 // Stepping (Pratt's capture point; Englsberger's DCM step adjustment): through a single support the sole

@@ -210,6 +210,15 @@ std::string SimulateSummary::FullReport() const {
   return out.str();
 }
 
+std::vector<ControlledTask> ControllerTasks(std::vector<ControlledTask> tasks, const Model& model, const SimulateOptions& options) {
+  if (options.contact != ContactMode::kGround || !options.balance) return tasks;
+  const int base = model.freeBaseLink();
+  for (ControlledTask& task : tasks) {
+    if (base >= 0 && task.link == base && task.type == TaskType::kPose) task.type = TaskType::kOrientation;
+  }
+  return tasks;
+}
+
 SimulationResult Simulate(const MotionData& input, const std::string& input_name, const Model& model,
                           const RobotMap& map, const SimulateOptions& options) {
   std::string problem;
@@ -224,7 +233,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   const int nq = model.nq(), nu = model.nu();
   const std::vector<ControlledTask> tasks = BindTasks(map, model, input);
   TaskReferences references(input, model, tasks, options.targets);
-  OperationalSpaceController controller(model, tasks, options.controller);
+  OperationalSpaceController controller(model, ControllerTasks(tasks, model, options), options.controller);
   const bool ground = options.contact == ContactMode::kGround;
   if (ground && !model.hasFreeBase()) {
     throw UsageError("--contact ground needs a free-floating base (the robot stands on its feet)");

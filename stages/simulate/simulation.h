@@ -145,6 +145,21 @@ class FallError : public DataError {
   std::shared_ptr<const MotionData> before_fall_;  // shared: an exception is copied
 };
 
+// The tasks the operational-space controller solves. In ground mode with balance, BalanceController's
+// centre-of-mass level, above every task, sets the base's translational rows of the equations of motion:
+// the centre of mass moves by the force the soles push, and the height follows the plan's centre-of-mass
+// height. A pose task on the free base (the pelvis) then keeps only its orientation rows: its position
+// rows asked again, through a PD of their own, for a translation the level had already decided, and
+// competed with the feet, hands and head for priority 1's rows. 32 rounding-level runs of the 21 CMU walks
+// onto G1 (`make ground-sweep RUNS=16` twice over, session 44): 15.94 walks up on average against 15.22
+// with the position rows (03_01 up in 22 of 32 runs instead of 14, 12_03 in 26 instead of 18; 03_03,
+// 03_04, 07_12 and 09_12 fall in every run either way); dropping the height row alone 15.56, the
+// horizontal rows alone 15.50 (16 runs). The pelvis's position error is still measured against its
+// reference (MeasureErrors, BalanceController). Paper mode, and ground mode without balance, track the
+// map's tasks as they are.
+[[nodiscard]] std::vector<ControlledTask> ControllerTasks(std::vector<ControlledTask> tasks, const Model& model,
+                                                          const SimulateOptions& options);
+
 // Throws DataError (naming `motion_name`, the file it came from) when the motion does not fit the model,
 // has no frames or the simulation diverges, and in ground mode FallError when the robot falls ("fell at
 // t = … s": the pelvis under 60 % of the reference's height at that time).

@@ -108,6 +108,36 @@ TEST(Simulate, PaperModeReproducesKinematicWalk) {
   for (double tau : limited.motion.tau) ASSERT_TRUE(std::isfinite(tau));
 }
 
+// Ground mode with balance leaves the base's translation to the centre-of-mass level: the pelvis's pose
+// task keeps its orientation rows only, every other task as the map has it; paper mode and ground mode
+// without balance solve the map's tasks unchanged.
+TEST(Simulate, GroundModeLeavesThePelvisTranslationToTheBalanceLevel) {
+  const MotionData& walk = DemoMotionOnG1("02_01");
+  const Model model = Model::Load(SourcePath(testing::kG1Urdf));
+  const RobotMap map = LoadRobotMap(SourcePath(testing::kG1Map));
+  const std::vector<ControlledTask> tasks = BindTasks(map, model, walk);
+  const int pelvis = model.findLinkIndex("pelvis");
+  ASSERT_EQ(model.freeBaseLink(), pelvis);
+  const auto pelvis_task = std::find_if(tasks.begin(), tasks.end(), [&](const ControlledTask& task) { return task.link == pelvis; });
+  ASSERT_NE(pelvis_task, tasks.end());
+  ASSERT_EQ(pelvis_task->type, TaskType::kPose);
+  SimulateOptions paper, ground, unbalanced;
+  ground.contact = unbalanced.contact = ContactMode::kGround;
+  unbalanced.balance = false;
+  for (const SimulateOptions* options : {&paper, &ground, &unbalanced}) {
+    const std::vector<ControlledTask> solved = ControllerTasks(tasks, model, *options);
+    ASSERT_EQ(solved.size(), tasks.size());
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      SCOPED_TRACE(tasks[i].landmark);
+      EXPECT_EQ(solved[i].landmark, tasks[i].landmark);
+      EXPECT_EQ(solved[i].link, tasks[i].link);
+      EXPECT_EQ(solved[i].priority, tasks[i].priority);
+      const bool dropped = options == &ground && tasks[i].link == pelvis;
+      EXPECT_EQ(solved[i].type, dropped ? TaskType::kOrientation : tasks[i].type);
+    }
+  }
+}
+
 TEST(Simulate, SameInputsGiveIdenticalOutputs) {
   const MotionData& walk = DemoMotionOnG1("02_01");
   MotionData excerpt = walk;
@@ -540,7 +570,9 @@ TEST_F(PaperMode, CmuDancesStayInsideTheirJointLimits) {
 // by 1-8e-9 (1 of 16 at the default weight), so this is not one lucky rounding (session 35). Its
 // tracking is loose all the same (pelvis ends 0.5 m ahead of the reference, feet landed 20-60 deg off
 // their headings; independent FK of the record); the other walks' spread mean is 15.75 at weight 2
-// against 15.81 at 1 (SimulateOptions::moment_weight).
+// against 15.81 at 1 (SimulateOptions::moment_weight). Since the pelvis's position rows were left to the
+// balance level (ControllerTasks, session 44) it stays up at weight 2 in 12 of those 16 runs, its pelvis
+// down to 74-94 % of the reference's height in them, 72 % in this draw (until then at least 80 %).
 TEST_F(GroundMode, TheBriskWalkStaysUpWithItsMomentsFavoured) {
 #ifdef SYN_SANITIZED_BUILD
   GTEST_SKIP() << "a real-data ground-mode simulation runs in the Release test run, not under the sanitizers";
@@ -550,7 +582,7 @@ TEST_F(GroundMode, TheBriskWalkStaysUpWithItsMomentsFavoured) {
   options.moment_weight = 2.0;
   const SimulationResult result = Simulate(walk, "07_12", model, map, options);
   std::printf("07_12 with the moments weighted 2: %s\n", result.summary.FullReport().c_str());
-  EXPECT_GE(result.summary.lowest_pelvis_ratio, 0.8);
+  EXPECT_GE(result.summary.lowest_pelvis_ratio, 0.7);
   EXPECT_LE(result.summary.deepest_penetration_mm, 10.0);
   EXPECT_LE(result.summary.peak_vertical_force_n, kPeakForceInWeights * model.totalMass() * model.gravity());
   EXPECT_LE(WorstLimitExcess(model, result.motion), kStopTolerance) << "a joint past its URDF limit";
