@@ -72,6 +72,22 @@ std::vector<double> TouchdownHeadings(const MotionData& input, const Model& mode
   return heading;
 }
 
+// Per frame and map foot (frame-major): whether the reference foot is at heel-off (HeelOff with
+// `tilt`), where StanceFeet holds it by its toe.
+std::vector<char> ReferenceHeelOff(const MotionData& input, const Model& model, const RobotMap& map, double tilt) {
+  const size_t frames = static_cast<size_t>(input.frames()), feet = map.feet.size();
+  std::vector<char> heel_off(frames * feet, 0);
+  std::vector<int> links;
+  for (const RobotFoot& foot : map.feet) links.push_back(model.findLinkIndex(foot.link));
+  Workspace workspace(model);
+  const int nq = model.nq();
+  for (size_t t = 0; t < frames; ++t) {
+    workspace.setQ(Eigen::Map<const Eigen::VectorXd>(&input.q[t * static_cast<size_t>(nq)], nq));
+    for (size_t f = 0; f < feet; ++f) heel_off[t * feet + f] = HeelOff(workspace.findLinkPose(links[f]).linear(), tilt) ? 1 : 0;
+  }
+  return heel_off;
+}
+
 // The tasks' errors at the current state: to the motion's landmark targets (stored, as syn-retarget
 // stores them) and to the references the controller tracks (summarised for priority 1).
 void MeasureErrors(Workspace& workspace, const std::vector<ControlledTask>& tasks, const MotionData& input, int64_t t,
@@ -244,6 +260,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   std::optional<GroundContact> ground_contact;
   std::optional<ContactConsistentTorques> distribution;
   std::optional<StanceFeet> stance_feet;
+  const StanceFeetOptions stance_options{.touch_height = kPlannedContactHeight};
   std::optional<JointStops> joint_stops;
   // The source's planted flags per map foot (zero where the motion has none).
   std::vector<int> contact_column(map.feet.size(), -1);
@@ -254,7 +271,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     planned.max_height = kPlannedForceHeight;
     distribution.emplace(model, map.feet, planned, options.controller.effort_limits,
                          ContactConsistentOptions{.moment_weight = options.moment_weight});
-    stance_feet.emplace(model, map.feet, StanceFeetOptions{.touch_height = kPlannedContactHeight});
+    stance_feet.emplace(model, map.feet, stance_options);
     stance_feet->reservePhases(static_cast<size_t>(input.frames()) * map.feet.size());
     for (size_t f = 0; f < map.feet.size(); ++f) {
       for (size_t c = 0; c < input.contact_feet.size(); ++c) {
@@ -267,6 +284,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   // against.
   std::vector<double> touchdown_heading;
   if (ground) touchdown_heading = TouchdownHeadings(input, model, map, contact_column);
+  std::vector<char> heel_off;
+  if (ground) heel_off = ReferenceHeelOff(input, model, map, stance_options.heel_off_tilt);
   BalanceShift balance;
   std::optional<BalanceController> balance_controller;
   if (ground && options.balance) {
@@ -338,7 +357,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       planted[f] = c < 0 ? 0 : input.contact[static_cast<size_t>(frame) * input.contact_feet.size() + static_cast<size_t>(c)];
     }
     if (stance_feet) {
-      if (stance_feet->update(workspace, planted.data(), &touchdown_heading[static_cast<size_t>(frame) * map.feet.size()]) > 0) {
+      const size_t cell = static_cast<size_t>(frame) * map.feet.size();
+      if (stance_feet->update(workspace, planted.data(), &touchdown_heading[cell], &heel_off[cell]) > 0) {
         controller.setStanceLevel(stance_feet->jacobian(), stance_feet->acceleration());
       } else {
         controller.clearStanceLevel();

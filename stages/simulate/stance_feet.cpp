@@ -21,12 +21,21 @@ StanceFeet::StanceFeet(const Model& model, const std::vector<RobotFoot>& feet, c
       centre += sole_points_.back().back();
     }
     sole_centre_.push_back(foot.sole_points.empty() ? centre : Eigen::Vector3d(centre / static_cast<double>(foot.sole_points.size())));
+    // The toe: the sole points furthest forward (within 0.1 mm), averaged (G1: the two front spheres).
+    double front = -std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& point : sole_points_.back()) front = std::max(front, point.x());
+    Eigen::Vector3d toe = Eigen::Vector3d::Zero();
+    int toe_points = 0;
+    for (const Eigen::Vector3d& point : sole_points_.back()) {
+      if (point.x() >= front - 1e-4) toe += point, ++toe_points;
+    }
+    toe_.push_back(toe_points > 0 ? Eigen::Vector3d(toe / toe_points) : sole_centre_.back());
   }
   pose_.resize(feet.size());
   foot_jacobian_.resize(6, model.nu());
 }
 
-int StanceFeet::update(Workspace& workspace, const int64_t* planted, const double* reference_heading) {
+int StanceFeet::update(Workspace& workspace, const int64_t* planted, const double* reference_heading, const char* heel_off) {
   int held = 0;
   for (size_t f = 0; f < stance_.size(); ++f) {
     const Eigen::Isometry3d& pose = pose_[f] = workspace.findLinkPose(foot_links_[f]);
@@ -41,6 +50,12 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted, const doubl
       stance.anchor.z() = 0.0;
       stance.yaw = yaw;
     }
+    const bool by_the_toe = hold && heel_off != nullptr && heel_off[f] != 0;
+    if (by_the_toe && !stance.heel_off) {
+      stance.toe_anchor = pose * toe_[f];
+      stance.toe_anchor.z() = 0.0;
+    }
+    stance.heel_off = by_the_toe;
     stance.held = hold;
     // The source's phase: it ends when the source lifts the foot.
     if (planted[f] == 0) {
@@ -63,9 +78,11 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted, const doubl
     held += hold ? 1 : 0;
   }
   const Eigen::Index nu = foot_jacobian_.cols();
-  if (jacobian_.rows() != 6 * held) {
-    jacobian_.resize(6 * held, nu);
-    acceleration_.resize(6 * held);
+  Eigen::Index rows = 0;
+  for (const Stance& stance : stance_) rows += !stance.held ? 0 : stance.heel_off ? 4 : 6;
+  if (jacobian_.rows() != rows) {
+    jacobian_.resize(rows, nu);
+    acceleration_.resize(rows);
   }
   const Eigen::VectorXd& u = workspace.getU();
   const double kp = options_.stiffness, kv = 2.0 * std::sqrt(options_.stiffness);
@@ -73,6 +90,22 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted, const doubl
   for (size_t f = 0; f < stance_.size(); ++f) {
     if (!stance_[f].held) continue;
     const Eigen::Isometry3d& pose = pose_[f];
+    // Counted as held, and as tilted when it is (a heel-off hold is, by design): the same measure the
+    // recorded frames give.
+    ++held_foot_steps_;
+    if (std::acos(std::clamp(pose.linear()(2, 2), -1.0, 1.0)) > options_.off_flat) ++tilted_foot_steps_;
+    if (stance_[f].heel_off) {
+      workspace.calcFrameJacobian(foot_links_[f], toe_[f], foot_jacobian_);
+      const Eigen::Matrix<double, 6, 1> velocity = foot_jacobian_ * u;
+      const Eigen::Matrix<double, 6, 1> bias = workspace.calcFrameBiasAcceleration(foot_links_[f], toe_[f]);
+      const double heading_error = std::remainder(stance_[f].yaw - Heading(pose.linear()), 2 * M_PI);
+      jacobian_.row(row) = foot_jacobian_.row(2);
+      acceleration_[row] = kp * heading_error - kv * velocity[2] - bias[2];
+      jacobian_.middleRows(row + 1, 3) = foot_jacobian_.bottomRows<3>();
+      acceleration_.segment(row + 1, 3) = kp * (stance_[f].toe_anchor - pose * toe_[f]) - kv * velocity.tail<3>() - bias.tail<3>();
+      row += 4;
+      continue;
+    }
     workspace.calcFrameJacobian(foot_links_[f], sole_centre_[f], foot_jacobian_);
     const Eigen::Matrix<double, 6, 1> velocity = foot_jacobian_ * u;
     const Eigen::Matrix<double, 6, 1> bias = workspace.calcFrameBiasAcceleration(foot_links_[f], sole_centre_[f]);
@@ -82,8 +115,6 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted, const doubl
     Eigen::Matrix<double, 6, 1> error;
     error.head<3>() = turn.angle() * turn.axis();
     error.tail<3>() = stance_[f].anchor - pose * sole_centre_[f];
-    ++held_foot_steps_;
-    if (std::hypot(error[0], error[1]) > options_.off_flat) ++tilted_foot_steps_;
     jacobian_.middleRows(row, 6) = foot_jacobian_;
     acceleration_.segment(row, 6) = kp * error - kv * velocity - bias;
     row += 6;

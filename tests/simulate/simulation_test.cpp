@@ -620,9 +620,11 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
                   result.summary.held_move_max_mm, recorded.turns_deg.size(), recorded_turn, recorded_move);
       // The stage's measure (at 1 kHz, from the first held step) against the record's (at 120 Hz, from the
       // first recorded frame on the floor, up to 8 ms later). Session 33: the same phase counts, medians
-      // within 0.8 deg and 2.1 mm on the 17 walks up.
+      // within 0.8 deg and 2.1 mm on the 17 walks up. Since a foot at heel-off is held by its toe (session
+      // 44) it can turn on its toe for a few ms that the 120 Hz record steps over: turn medians up to 2.6 deg
+      // apart (02_02: 13.0 against 10.4; 08_11: 19.9 against 18.0).
       EXPECT_EQ(static_cast<size_t>(result.summary.held_phases), recorded.turns_deg.size()) << trial.name;
-      EXPECT_NEAR(result.summary.held_turn_median_deg, recorded_turn, 1.5) << trial.name << ": held feet's turn against FK of the record";
+      EXPECT_NEAR(result.summary.held_turn_median_deg, recorded_turn, 3.0) << trial.name << ": held feet's turn against FK of the record";
       EXPECT_NEAR(result.summary.held_move_median_mm, recorded_move, 3.0) << trial.name << ": held feet's move against FK of the record";
       // Where the feet landed turned, against the reference's heading at each source touchdown.
       const double recorded_landing = NearestRankPercentile(recorded.landing_turns_deg, 0.5);
@@ -636,11 +638,12 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
       EXPECT_NEAR(result.summary.landing_turn_median_deg, recorded_landing, 3.0) << trial.name << ": landings' turn against FK of the record";
       // Where the feet landed against where the stepping aimed them: one landing per source touchdown after
       // a swing (counted here from the input's contact flags), every swing aimed. Session 37: each walk's
-      // median 8.5-42.5 mm, the largest 158 mm (10_04).
+      // median 8.5-42.5 mm, the largest 158 mm (10_04). Session 44, feet at heel-off held by their toe:
+      // 07_12, the brisk walk, now up, 86 mm, and 08_07 104 mm; the others 10-60 mm.
       EXPECT_EQ(result.summary.aimed_landings, SourceTouchdowns(map, walk)) << trial.name;
       std::printf("%s: landings %.1f mm median from the stepping's aim (%.1f at most)\n", trial.name.c_str(),
                   result.summary.landing_miss_median_mm, result.summary.landing_miss_max_mm);
-      EXPECT_LE(result.summary.landing_miss_median_mm, 60.0) << trial.name;
+      EXPECT_LE(result.summary.landing_miss_median_mm, 110.0) << trial.name;
       EXPECT_LE(WorstLimitExcess(model, result.motion), kStopTolerance) << trial.name << ": a joint past its URDF limit";
       // Issue 18: soles never more than 1 cm into the floor; and no contact chatter (with the contact's
       // dissipation at 10 s/m the soles' force switched between 0 and 20-43 kN every step, 13 mm deep).
@@ -698,7 +701,9 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
   // 32's figures exactly), 14-17, mean 15.75 after.
   // 2026-11-29 (session 41): the floor no longer pulls within the implicit step (ground_contact.h): 16 up in
   // this test (03_01 up; 12_03 falls), the CLI's 16 likewise; over the 8 settings 15-17, mean 15.25 -> 15.88.
-  EXPECT_GE(up, 15);
+  // 2026-11-29 (session 44): the pelvis's position rows left to the balance level and feet at heel-off held
+  // by their toe: 18 up in this test (03_03, 03_04 and 09_12 fall); 16 rounding-level runs 16.81 on average.
+  EXPECT_GE(up, 17);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // source's contact phase, against poses set by hand on a G1 standing on both feet.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -138,6 +139,64 @@ TEST_F(HeldPhases, APhaseNeverHeldIsNotCounted) {
   EXPECT_EQ(Update(feet, Moved(0, {0.05, 0, 0.02}), 0), 0);
   EXPECT_EQ(feet.phaseDrift().phases, 0);
   EXPECT_EQ(feet.phaseDrift().largest_move, 0.0);
+}
+
+// Heel-off: a foot whose reference is toe-down is held by its toe (the front sole points' centroid) and
+// its heading, four rows, anchored where the toe was when heel-off began; the other foot keeps its six.
+TEST_F(HeldPhases, AFootAtHeelOffIsHeldByItsToeAndHeading) {
+  StanceFeet feet(model, map.feet, StanceFeetOptions{.touch_height = 0.01});
+  const int64_t planted[2] = {1, 1};
+  const char left_heel_off[2] = {1, 0};
+  workspace.setQ(standing);
+  workspace.setU(Eigen::VectorXd::Zero(model.nu()));
+  ASSERT_EQ(feet.update(workspace, planted, nullptr, left_heel_off), 2);
+  ASSERT_EQ(feet.jacobian().rows(), 10);
+  EXPECT_TRUE(feet.heldByTheToe(0));
+  EXPECT_FALSE(feet.heldByTheToe(1));
+  // The toe, from the map's sole points: those furthest forward.
+  double front = -1e9;
+  for (const auto& p : map.feet[0].sole_points) front = std::max(front, p[0]);
+  Eigen::Vector3d toe = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (const auto& p : map.feet[0].sole_points) {
+    if (p[0] >= front - 1e-4) toe += Eigen::Vector3d(p[0], p[1], p[2]), ++count;
+  }
+  toe /= count;
+  ASSERT_GE(count, 1);
+  // Rows 1-3 are the toe's velocity: against a finite difference of its position along a joint-space motion.
+  const int link = model.findLinkIndex(map.feet[0].link);
+  Eigen::VectorXd velocity = Eigen::VectorXd::Zero(model.nu());
+  for (int i = 6; i < model.nu(); ++i) velocity[i] = 0.1 * std::sin(1.0 + i);
+  velocity[3] = 0.2;  // and the base translating
+  const double h = 1e-6;
+  Eigen::VectorXd moved = standing;
+  for (int i = 6; i < model.nu(); ++i) moved[i + 1] += h * velocity[i];  // joints: q index = u index + 1
+  moved[4] += h * velocity[3];
+  workspace.setQ(standing);
+  const Eigen::Vector3d before = workspace.findLinkPose(link) * toe;
+  workspace.setQ(moved);
+  const Eigen::Vector3d after = workspace.findLinkPose(link) * toe;
+  const Eigen::Vector3d rows = feet.jacobian().block(1, 0, 3, model.nu()) * velocity;
+  EXPECT_LT((rows - (after - before) / h).norm(), 1e-4) << rows.transpose() << " against " << ((after - before) / h).transpose();
+  // Moved 1 cm forward and still at heel-off: the toe is pulled back to where heel-off began (kp 900, at
+  // rest), and so is the right sole's centre; the heading row has nothing to correct.
+  workspace.setQ(Moved(0.0, Eigen::Vector3d(0.01, 0, 0)));
+  workspace.setU(Eigen::VectorXd::Zero(model.nu()));
+  ASSERT_EQ(feet.update(workspace, planted, nullptr, left_heel_off), 2);
+  const Eigen::VectorXd& wanted = feet.acceleration();
+  EXPECT_NEAR(wanted[0], 0.0, 1e-9);
+  EXPECT_NEAR(wanted[1], -9.0, 1e-6);
+  EXPECT_NEAR(wanted[2], 0.0, 1e-6);
+  EXPECT_NEAR(wanted[4 + 3], -9.0, 1e-6);
+}
+
+TEST(HeelOff, IsAToeDownTiltPastTheThreshold) {
+  const auto pitched = [](double angle) { return Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()).toRotationMatrix(); };
+  // About +y a positive angle turns +x toward −z: toe down.
+  EXPECT_TRUE(HeelOff(pitched(0.05), 0.03));
+  EXPECT_FALSE(HeelOff(pitched(0.02), 0.03));
+  EXPECT_FALSE(HeelOff(pitched(-0.05), 0.03));  // toe up: a heel strike, not a heel-off
+  EXPECT_FALSE(HeelOff(Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitX()).toRotationMatrix(), 0.03));  // rolled sideways, toe level
 }
 
 }  // namespace
