@@ -93,7 +93,7 @@ int StanceFeet::update(Workspace& workspace, const int64_t* planted, const doubl
     // Counted as held, and as tilted when it is (a heel-off hold is, by design): the same measure the
     // recorded frames give.
     ++held_foot_steps_;
-    if (std::acos(std::clamp(pose.linear()(2, 2), -1.0, 1.0)) > options_.off_flat) ++tilted_foot_steps_;
+    if (SoleTilt(pose.linear()) > options_.off_flat) ++tilted_foot_steps_;
     if (stance_[f].heel_off) {
       workspace.calcFrameJacobian(foot_links_[f], toe_[f], foot_jacobian_);
       const Eigen::Matrix<double, 6, 1> velocity = foot_jacobian_ * u;

@@ -27,6 +27,7 @@
 // held flat; CMU 07_12, the brisk walk, up in 13 of the 16 (in none held flat), 08_07 in 9 instead of 15.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -46,10 +47,13 @@ struct StanceFeetOptions {
   double heel_off_tilt = 0.03;  // rad: a reference sole tilted toe-down more than this is at heel-off
 };
 
-// Whether a foot whose link has `rotation` is at heel-off: its sole (the link's x-y plane) tilted from
-// level by more than `tilt` (rad), toe (+x) down.
+// How far a foot whose link has `rotation` is tilted from level (rad): the angle of its sole's normal
+// (the link's z axis; the robot maps' sole points share their z) from the vertical.
+[[nodiscard]] inline double SoleTilt(const Eigen::Matrix3d& rotation) { return std::acos(std::clamp(rotation(2, 2), -1.0, 1.0)); }
+
+// Whether such a foot is at heel-off: tilted more than `tilt` (rad), toe (+x) down.
 [[nodiscard]] inline bool HeelOff(const Eigen::Matrix3d& rotation, double tilt) {
-  return rotation(2, 0) < 0 && std::acos(std::min(1.0, std::max(-1.0, rotation(2, 2)))) > tilt;
+  return rotation(2, 0) < 0 && SoleTilt(rotation) > tilt;
 }
 
 // The heading of a rotation: its x axis's direction about the vertical (rad). What StanceFeet holds a foot
@@ -73,7 +77,7 @@ class StanceFeet {
   const Eigen::MatrixXd& jacobian() const { return jacobian_; }
   const Eigen::VectorXd& acceleration() const { return acceleration_; }
   bool held(size_t foot) const { return stance_[foot].held; }
-  bool heldByTheToe(size_t foot) const { return stance_[foot].held && stance_[foot].heel_off; }
+  bool heldByTheToe(size_t foot) const { return stance_[foot].heel_off; }
   // Over every update so far: the held foot-steps, and those whose sole was more than `off_flat` (rad)
   // from flat, on an edge or a corner (a 3° roll lifts a G1 sole's far edge 2.6 mm, past the 2 mm the
   // contact calls touching).
@@ -103,7 +107,7 @@ class StanceFeet {
  private:
   struct Stance {
     bool held = false;
-    bool heel_off = false;                                 // held by the toe and heading only
+    bool heel_off = false;                                 // held, by the toe and heading only
     Eigen::Vector3d toe_anchor = Eigen::Vector3d::Zero();  // the toe's, on the floor, from heel-off's start
     Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  // the sole centre's, on the floor (ground frame)
     double yaw = 0.0;                                  // the heading it touched down with

@@ -161,8 +161,8 @@ TEST_F(HeldPhases, AFootAtHeelOffIsHeldByItsToeAndHeading) {
   for (const auto& p : map.feet[0].sole_points) {
     if (p[0] >= front - 1e-4) toe += Eigen::Vector3d(p[0], p[1], p[2]), ++count;
   }
-  toe /= count;
   ASSERT_GE(count, 1);
+  toe /= count;
   // Rows 1-3 are the toe's velocity: against a finite difference of its position along a joint-space motion.
   const int link = model.findLinkIndex(map.feet[0].link);
   Eigen::VectorXd velocity = Eigen::VectorXd::Zero(model.nu());
