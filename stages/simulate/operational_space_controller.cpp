@@ -36,6 +36,18 @@ Eigen::Vector3d OrientationError(const Eigen::Quaterniond& target, const Eigen::
 
 }  // namespace
 
+unsigned OperationalSpaceController::keptTaskRows(size_t task) const {
+  const TaskRows& rows = rows_[task];
+  const ControlledTask& controlled = tasks_[task];
+  const int first = controlled.type == TaskType::kPosition ? 3 : 0;
+  const int count = controlled.type == TaskType::kPose ? 6 : 3;
+  unsigned kept = 0;
+  for (int r = 0; r < count; ++r) {
+    if (hierarchy_.rowKept(static_cast<size_t>(rows.level), static_cast<int>(rows.first_row) + r)) kept |= 1u << (first + r);
+  }
+  return kept;
+}
+
 int ClipToEffort(const Eigen::VectorXd& limit, Eigen::VectorXd& tau) {
   int clipped = 0;
   for (Eigen::Index i = 0; i < tau.size(); ++i) {

@@ -91,6 +91,11 @@ class OperationalSpaceController {
   // After calcTorques: how many joint-limit walls the last call made active.
   int activeLimitCount() const { return static_cast<int>(active_limits_.size()); }
 
+  // After calcTorques: which of task `task`'s rows the hierarchy kept, bit r for row r of a pose (0-2 the
+  // angular rows, 3-5 the linear, ground frame; an orientation task has bits 0-2, a position task 3-5).
+  // A dropped row is nearly a combination of the rows kept before it (prioritized_control.h).
+  unsigned keptTaskRows(size_t task) const;
+
   const std::vector<ControlledTask>& tasks() const { return tasks_; }
   size_t levelCount() const { return levels_.size(); }
   const PrioritizedControl& hierarchy() const { return hierarchy_; }

@@ -99,6 +99,11 @@ void PrioritizedControl::invertKeptRows(SolvedLevel& solved) const {
   }
 }
 
+bool PrioritizedControl::rowKept(size_t level, int row) const {
+  const SolvedLevel& solved = solved_[level];
+  return std::find(solved.kept_rows.begin(), solved.kept_rows.begin() + solved.rank, row) != solved.kept_rows.begin() + solved.rank;
+}
+
 void PrioritizedControl::calcTorques(Workspace& workspace, const TreeMassFactorization& mass,
                                      const std::vector<PriorityLevel>& levels,
                                      const Eigen::VectorXd& posture_acceleration, Eigen::VectorXd& torques) {

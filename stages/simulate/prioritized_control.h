@@ -76,6 +76,8 @@ class PrioritizedControl {
   // level kept.
   const Eigen::VectorXd& taskAcceleration() const { return udot_tasks_; }
   int keptRank(size_t level) const { return solved_[level].rank; }
+  // After calcTorques: whether `row` of `level` was among the rows kept (O(rank)).
+  bool rowKept(size_t level, int row) const;
 
  private:
   struct SolvedLevel {

@@ -45,6 +45,22 @@ double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return 2.0 * std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized()))));
 }
 
+// The source's steps in frames [1, end): its touchdowns, a map foot planted again after a frame it was not
+// (`contact_column` as for TouchdownHeadings). How far into a take a fall came: the CMU walks that fall in
+// every run are the three long takes (29, 52 and 55 steps; the other 18 have 3-9).
+int64_t SourceTouchdowns(const MotionData& input, const std::vector<int>& contact_column, int64_t end) {
+  const size_t columns = input.contact_feet.size();
+  int64_t touchdowns = 0;
+  for (const int column : contact_column) {
+    if (column < 0) continue;
+    for (int64_t t = 1; t < end; ++t) {
+      const size_t now = static_cast<size_t>(t) * columns + static_cast<size_t>(column);
+      touchdowns += input.contact[now] != 0 && input.contact[now - columns] == 0 ? 1 : 0;
+    }
+  }
+  return touchdowns;
+}
+
 // Per frame and map foot (frame-major, as the source's contact flags): NaN where the source does not plant
 // the foot (or has no contact column for it, -1 in `contact_column`), else the heading of the reference's
 // foot link at the frame that began the planted run.
@@ -222,6 +238,27 @@ std::string SimulateSummary::FullReport() const {
           << " at most";
     }
   }
+  if (!task_rows.empty()) {
+    // Row names in keptTaskRows's bits: rotations about, then moves along, the ground's axes.
+    static constexpr std::array<const char*, 6> kRowNames = {"rx", "ry", "rz", "x", "y", "z"};
+    out << "\n  hierarchy: rows kept per control step, mean (the least-kept row, share of steps):";
+    const char* separator = " ";
+    for (const TaskRowsKept& tally : task_rows) {
+      if (tally.steps == 0) continue;
+      int64_t kept = 0, least = -1;
+      int count = 0, least_row = 0;
+      for (int r = 0; r < 6; ++r) {
+        if (!((tally.rows >> r) & 1u)) continue;
+        ++count, kept += tally.kept[static_cast<size_t>(r)];
+        if (least < 0 || tally.kept[static_cast<size_t>(r)] < least) least = tally.kept[static_cast<size_t>(r)], least_row = r;
+      }
+      out << separator << tally.task << (tally.foot && deepest_penetration_mm >= 0 ? " not held " : " ")
+          << static_cast<double>(kept) / static_cast<double>(tally.steps) << " of " << count << " ("
+          << kRowNames[static_cast<size_t>(least_row)] << " " << 100.0 * static_cast<double>(least) / static_cast<double>(tally.steps)
+          << " %)";
+      separator = ", ";
+    }
+  }
   out << "\n  " << message;
   return out.str();
 }
@@ -346,6 +383,19 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   std::vector<TaskReference> task_references;
   PostureReference posture;
   summary.steps = summary.saturated_steps = summary.saturated_entries = summary.limited_steps = 0;
+  // The hierarchy's kept rows per task, and which map foot a task moves (-1: none).
+  std::vector<int> foot_of_task(controller.tasks().size(), -1);
+  for (size_t i = 0; i < controller.tasks().size(); ++i) {
+    const ControlledTask& task = controller.tasks()[i];
+    SimulateSummary::TaskRowsKept tally;
+    tally.task = task.landmark;
+    tally.rows = task.type == TaskType::kPose ? 0x3fu : task.type == TaskType::kOrientation ? 0x07u : 0x38u;
+    for (size_t f = 0; f < map.feet.size(); ++f) {
+      if (model.findLinkIndex(map.feet[f].link) == task.link) foot_of_task[i] = static_cast<int>(f);
+    }
+    tally.foot = foot_of_task[i] >= 0;
+    summary.task_rows.push_back(std::move(tally));
+  }
   double joint_sq = 0, joint_max = 0, p1_position_sq = 0, p1_angle_sq = 0;
   int64_t joint_count = 0, p1_position_count = 0, p1_angle_count = 0;
   const auto control = [&](int64_t frame, double fraction, double dt) {
@@ -366,6 +416,14 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     }
     if (balance_controller) balance_controller->apply(workspace, frame, fraction, planted.data(), task_references, controller);
     int saturated = controller.calcTorques(workspace, task_references, posture, tau);
+    for (size_t i = 0; i < summary.task_rows.size(); ++i) {
+      const int foot = foot_of_task[i];
+      if (foot >= 0 && stance_feet && stance_feet->held(static_cast<size_t>(foot))) continue;
+      const unsigned kept = controller.keptTaskRows(i);
+      SimulateSummary::TaskRowsKept& tally = summary.task_rows[i];
+      ++tally.steps;
+      for (size_t r = 0; r < tally.kept.size(); ++r) tally.kept[r] += (kept >> r) & 1u;
+    }
     if (ground) {
       controller.calcAcceleration(tau, planned_udot);
       // The held feet's rows (none when no foot is held).
@@ -495,7 +553,11 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
         if (ratio < kFallenPelvisRatio) {
           std::ostringstream why;
           why.precision(3);
-          why << "fell at t = " << input.time_s[static_cast<size_t>(t)] + (step + 1) * dt << " s: the pelvis is " << q[6]
+          why << "fell at t = " << input.time_s[static_cast<size_t>(t)] + (step + 1) * dt << " s";
+          if (const int64_t steps_in_take = SourceTouchdowns(input, contact_column, frames); steps_in_take > 0) {
+            why << ", after " << SourceTouchdowns(input, contact_column, t + 1) << " of the take's " << steps_in_take << " steps";
+          }
+          why << ": the pelvis is " << q[6]
               << " m high, under " << kFallenPelvisRatio * 100 << " % of the reference's " << reference << " m"
               << DescribeFall(balance_samples, options.step_adjustment);
           KeepFirstFrames(out, t + 1);

@@ -8,6 +8,7 @@
 // 1/rate, and the run is deterministic. The controller runs once per step and holds its torques over it.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <utility>
@@ -123,6 +124,19 @@ struct SimulateSummary {
   // ... and those where the balance plan's own zero-moment point lay outside the standing soles (the feet
   // not where the plan had them; fall_diagnosis.h).
   int64_t plan_off_frames = -1;
+
+  // Per controller task (the map's, in its order), over the control steps it was solved in, how often the
+  // hierarchy kept each of its rows (OperationalSpaceController::keptTaskRows). In ground mode a foot's
+  // task counts only while that foot is not held: held, its rows are the stance level's and the task's
+  // own are dropped as dependent on them.
+  struct TaskRowsKept {
+    std::string task;   // its landmark
+    bool foot = false;  // a map foot's task (ground mode: counted while not held)
+    unsigned rows = 0;  // its rows, in keptTaskRows's bits
+    int64_t steps = 0;
+    std::array<int64_t, 6> kept{};
+  };
+  std::vector<TaskRowsKept> task_rows;
 
   std::string BriefReport() const;
   std::string FullReport() const;

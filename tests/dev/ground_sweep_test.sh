@@ -37,8 +37,23 @@ for trial in 02_01 09_12; do
   log=$out/simulate/$trial.log
   [ -f $log ] && [ -f $out/retarget/$trial.g1.h5 ] || fail "$trial: no log or retarget kept"
   line=$(grep "^$trial " $work/report.txt) || fail "$trial: no line in the report"
-  if fell=$(grep -o 'fell at t = [0-9.]* s' $log | head -n 1); then
+  if fell=$(grep -o "fell at t = [0-9.]* s\(, after [0-9]* of the take's [0-9]* steps\)\?" $log | head -n 1); then
     [ "$line" = "$trial $fell" ] || fail "$trial: the report says '$line', its log '$fell'"
+    # The steps, counted here from the retarget's contact flags: touchdowns (a foot planted after a frame it
+    # was not) in the take, and in its frames up to the fall.
+    "${PYTHON:-/usr/bin/python3}" - "$out/retarget/$trial.g1.h5" "$fell" <<'STEPS' || fail "$trial: '$fell' does not count the retarget's steps"
+import re, sys
+import h5py, numpy as np
+with h5py.File(sys.argv[1], "r") as file:
+    time, contact = file["time"][()], np.asarray(file["contact"][()]).astype(bool)
+fell = re.fullmatch(r"fell at t = ([0-9.]+) s, after (\d+) of the take's (\d+) steps", sys.argv[2])
+assert fell, sys.argv[2]
+touchdown = contact[1:] & ~contact[:-1]
+before = time[1:] <= float(fell.group(1))
+assert int(fell.group(3)) == touchdown.sum(), (fell.group(0), touchdown.sum())
+# The stage counts the frames up to the last one recorded before the fall (t rounded to 3 digits here).
+assert abs(int(fell.group(2)) - touchdown[before].sum()) <= 1, (fell.group(0), touchdown[before].sum())
+STEPS
     [ ! -e $out/simulate/$trial.sim.h5 ] || fail "$trial fell but has an output"
   else
     speed=$(grep -o '[0-9.]*x real time' $log | tail -n 1)
@@ -74,7 +89,7 @@ runs, report = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2]).read_text()
 expected = {1: (3.5 * (1 + 1e-9), 30.0), 2: (3.5, 30.0 * (1 + 1e-9))}
 counts = {1: 0, 2: 0}
 for trial in ("02_01", "09_12"):
-    up, times = 0, []
+    up, times, taken = 0, [], []
     for k in (1, 2):
         log = (runs / str(k) / "simulate" / f"{trial}.log").read_text()
         p = json.loads(re.search(r"^syn-simulate: parameters (\{.*\})$", log, re.M).group(1))
@@ -84,14 +99,20 @@ for trial in ("02_01", "09_12"):
         fell = re.search(r"fell at t = ([0-9.]+) s", log)
         if fell:
             times.append(float(fell.group(1)))
+            steps = re.search(r"fell at t = [0-9.]+ s, after (\d+) of the take's (\d+) steps", log)
+            assert steps, f"{trial}'s fall does not say after how many steps"
+            taken.append((int(steps.group(1)), int(steps.group(2))))
         else:
             up += 1
             counts[k] += 1
-    line = re.search(rf"^{trial} up in (\d+) of 2 runs(?: \(fell at ([0-9.]+)(?:-([0-9.]+))? s\))?$", report, re.M)
+    line = re.search(rf"^{trial} up in (\d+) of 2 runs(?: \(fell at ([0-9.]+)(?:-([0-9.]+))? s, "
+                     rf"after (\d+)(?:-(\d+))? of (\d+) steps\))?$", report, re.M)
     assert line, f"no line for {trial}"
     assert int(line.group(1)) == up, (trial, line.group(0), up)
     if times:
         assert float(line.group(2)) == min(times) and float(line.group(3) or line.group(2)) == max(times), (line.group(0), times)
+        assert int(line.group(4)) == min(s for s, _ in taken) and int(line.group(5) or line.group(4)) == max(s for s, _ in taken), (line.group(0), taken)
+        assert int(line.group(6)) == taken[0][1] and all(total == taken[0][1] for _, total in taken), (line.group(0), taken)
     else:
         assert line.group(2) is None, line.group(0)
 for k in (1, 2):

@@ -8,8 +8,8 @@
 # ingested and retargeted as the pipeline does for CMU BVH (manifests/demo.toml: --drop-first-frame, the
 # cmu-bvh marker set). Retargets are kept in OUT_DIR/retarget and redone only when an input or a stage is
 # newer, so a sweep over settings pays for them once. $JOBS walks at a time (default: the cores).
-# Prints per walk "up" or the fall's time, and the simulation's speed; each walk's -v log is in
-# OUT_DIR/simulate/NAME.log.
+# Prints per walk "up" or the fall's time (and after how many of the take's steps), and the simulation's
+# speed; each walk's -v log is in OUT_DIR/simulate/NAME.log.
 #
 # RUNS=N (N > 1): which walks stay up moves with the arithmetic's rounding (README: "the takes that fall"),
 # so one sweep is one draw. This runs N sweeps instead, run k with the balance gain (odd k) or kv (even k)
@@ -69,7 +69,7 @@ run_walk() {
     echo "$name up $(grep -o '[0-9.]*x real time' "$log" | tail -n 1)" > "$simulate/$name.result"
   else
     local fell
-    fell=$(grep -o 'fell at t = [0-9.]* s' "$log" | head -n 1)
+    fell=$(grep -o "fell at t = [0-9.]* s\(, after [0-9]* of the take's [0-9]* steps\)\?" "$log" | head -n 1)
     echo "$name ${fell:-failed (see $log)}" > "$simulate/$name.result"
   fi
 }
@@ -125,7 +125,7 @@ done
 python3 - "$out/runs" "$runs" "$walk_count" "${other[*]}" <<'REPORT'
 import pathlib, re, sys
 root, runs, walks, flags = pathlib.Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
-up, falls, counts = {}, {}, []
+up, falls, steps, counts = {}, {}, {}, []
 for k in range(1, runs + 1):
     lines = [p.read_text().split() for p in sorted((root / str(k) / "simulate").glob("*.result"))]
     counts.append(sum(1 for line in lines if line[1] == "up"))
@@ -136,12 +136,19 @@ for k in range(1, runs + 1):
         else:
             time = re.search(r"fell at t = ([0-9.]+) s", " ".join(line))
             falls.setdefault(line[0], []).append(float(time.group(1)) if time else None)
+            taken = re.search(r"after (\d+) of the take's (\d+) steps", " ".join(line))
+            if taken:
+                steps.setdefault(line[0], []).append((int(taken.group(1)), int(taken.group(2))))
 for name in sorted(up):
     times = [t for t in falls.get(name, []) if t is not None]
     where = ""
     if times:
         low, high = min(times), max(times)
-        where = f" (fell at {low:g} s)" if low == high else f" (fell at {low:g}-{high:g} s)"
+        where = f"fell at {low:g} s" if low == high else f"fell at {low:g}-{high:g} s"
+        if name in steps:  # how far into the take: the long takes fall, the short ones mostly do not
+            first, last = min(s for s, _ in steps[name]), max(s for s, _ in steps[name])
+            where += f", after {first}" + (f"-{last}" if last != first else "") + f" of {steps[name][0][1]} steps"
+        where = f" ({where})"
     print(f"{name} up in {up[name]} of {runs} runs{where}")
 mean = sum(counts) / runs
 label = f" ({flags})" if flags else ""
