@@ -45,6 +45,8 @@ void PrioritizedControl::invertKeptRows(SolvedLevel& solved) const {
     solved.schur_diagonal.tail(rest) -= factor.col(rank).tail(rest).cwiseAbs2();
   }
   solved.rank = rank;
+  solved.row_kept.assign(static_cast<size_t>(rows), 0);
+  for (int k = 0; k < rank; ++k) solved.row_kept[static_cast<size_t>(solved.kept_rows[static_cast<size_t>(k)])] = 1;
   // Φ'_KK⁻¹ = L⁻ᵀ L⁻¹: L⁻¹ column by column (forward substitution from the column's own row: its
   // entries above are zero), then the lower triangle of the product, each entry a dot product of two
   // columns' tails. A sixth of m³ each, where solving L X = I and Lᵀ Y = X densely costs m³.
@@ -100,8 +102,8 @@ void PrioritizedControl::invertKeptRows(SolvedLevel& solved) const {
 }
 
 bool PrioritizedControl::rowKept(size_t level, int row) const {
-  const SolvedLevel& solved = solved_[level];
-  return std::find(solved.kept_rows.begin(), solved.kept_rows.begin() + solved.rank, row) != solved.kept_rows.begin() + solved.rank;
+  const std::vector<char>& kept = solved_[level].row_kept;
+  return row >= 0 && static_cast<size_t>(row) < kept.size() && kept[static_cast<size_t>(row)] != 0;
 }
 
 void PrioritizedControl::calcTorques(Workspace& workspace, const TreeMassFactorization& mass,
@@ -122,6 +124,7 @@ void PrioritizedControl::calcTorques(Workspace& workspace, const TreeMassFactori
       solved.j_minv.resize(0, nu);
       solved.inertia.resize(0, 0);
       solved.rank = 0;
+      solved.row_kept.clear();
       continue;
     }
     // J_k| = J_k N_{<k} = J_k − Σ_j (J_k A⁻¹ J_j|ᵀ Λ_j) J_j|: the projectors of the levels above are

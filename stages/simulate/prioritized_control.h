@@ -76,7 +76,7 @@ class PrioritizedControl {
   // level kept.
   const Eigen::VectorXd& taskAcceleration() const { return udot_tasks_; }
   int keptRank(size_t level) const { return solved_[level].rank; }
-  // After calcTorques: whether `row` of `level` was among the rows kept (O(rank)).
+  // After calcTorques: whether `row` of `level` was among the rows kept.
   bool rowKept(size_t level, int row) const;
 
  private:
@@ -88,6 +88,7 @@ class PrioritizedControl {
     Eigen::MatrixXd operational;     // Φ' = D J_k| A⁻¹ J_k|ᵀ D, then its pivoted Cholesky factor in place
     Eigen::MatrixXd unfactored;      // Φ' as it was, for the damped inverse
     std::vector<int> kept_rows;      // the rows the factorisation took, in pivot order (then the dropped)
+    std::vector<char> row_kept;      // per row in the level's order: whether it was taken
     Eigen::VectorXd schur_diagonal;  // the factorisation's remaining pivots, in pivot order
     Eigen::MatrixXd factor_inverse;  // L⁻¹ of the kept rows' Cholesky factor
     Eigen::MatrixXd kept_inverse;    // Φ'_KK⁻¹ over the kept rows K, in pivot order
