@@ -223,7 +223,7 @@ std::string SimulateSummary::FullReport() const {
         << held_move_max_mm << " at most";
     out << "\n  landings: the first hold of " << landings << " phases turned " << landing_turn_median_deg
         << " deg median from the reference's heading at the source's touchdown, " << landing_turn_p95_deg << " p95, "
-        << landing_turn_max_deg << " at most";
+        << landing_turn_max_deg << " at most; the take's " << source_steps << " steps (the source's touchdowns)";
     if (balance_corrected_frames >= 0) {
       out << "\n  balance plan: the reference's zero-moment point moved into the feet in " << balance_corrected_frames
           << " of " << frames << " frames, by up to " << balance_largest_zmp_correction_m * 1000
@@ -596,6 +596,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     summary.held_move_p95_mm = drift.p95_move * 1000;
     summary.held_move_max_mm = drift.largest_move * 1000;
     summary.landings = drift.landings;
+    summary.source_steps = SourceTouchdowns(input, contact_column, frames);
     summary.landing_turn_median_deg = drift.median_landing_turn * kDegreesPerRadian;
     summary.landing_turn_p95_deg = drift.p95_landing_turn * kDegreesPerRadian;
     summary.landing_turn_max_deg = drift.largest_landing_turn * kDegreesPerRadian;

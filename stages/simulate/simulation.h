@@ -106,6 +106,8 @@ struct SimulateSummary {
   // either way) the sole's heading at the phase's first hold was from the reference foot's at that
   // touchdown: median, p95, largest (StanceFeet::PhaseDrift). The plan moves landings, never turns them.
   int64_t landings = -1;
+  // Ground mode: the take's steps, the source's touchdowns (what a fall's message counts them against).
+  int64_t source_steps = -1;
   double landing_turn_median_deg = -1, landing_turn_p95_deg = -1, landing_turn_max_deg = -1;
   // Ground mode with stepping: over the landings of swings the stepping aimed (BalanceSample::landing_miss),
   // how far (mm) the foot's link stood from its aim at the source's touchdown: median, p95, largest.

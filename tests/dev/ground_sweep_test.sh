@@ -88,6 +88,7 @@ import json, pathlib, re, sys
 runs, report = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2]).read_text()
 expected = {1: (3.5 * (1 + 1e-9), 30.0), 2: (3.5, 30.0 * (1 + 1e-9))}
 counts = {1: 0, 2: 0}
+walked, falls = 0, 0
 for trial in ("02_01", "09_12"):
     up, times, taken = 0, [], []
     for k in (1, 2):
@@ -97,6 +98,11 @@ for trial in ("02_01", "09_12"):
         assert abs(p["balance_gain"] - gain) < 1e-15 * gain and abs(p["kv"] - kv) < 1e-15 * kv, (k, trial, p)
         assert p["swing_lift"] == 0.05, p
         fell = re.search(r"fell at t = ([0-9.]+) s", log)
+        take = re.search(r"the take's (\d+) steps", log)
+        assert take, f"{trial}'s log does not give the take's steps"
+        after = re.search(r"after (\d+) of the take's", log)
+        walked += int(after.group(1)) if fell else int(take.group(1))
+        falls += 1 if fell else 0
         if fell:
             times.append(float(fell.group(1)))
             steps = re.search(r"fell at t = [0-9.]+ s, after (\d+) of the take's (\d+) steps", log)
@@ -118,6 +124,7 @@ for trial in ("02_01", "09_12"):
 for k in (1, 2):
     assert re.search(rf"^run {k} \(.*\): {counts[k]} of 2 up$", report, re.M), (k, counts[k])
 mean = (counts[1] + counts[2]) / 2
+assert re.search(rf"^falls per 100 steps taken: {100 * falls / walked:.2f} \({falls} falls in {walked} steps\)$", report, re.M), (falls, walked)
 last = report.strip().splitlines()[-1]
 assert last == (f"ground mode (--swing-lift 0.05), 2 rounding-level runs: {mean:.2f} of 2 CMU walks stay up on average "
                 f"({min(counts.values())}-{max(counts.values())})"), last

@@ -126,10 +126,17 @@ python3 - "$out/runs" "$runs" "$walk_count" "${other[*]}" <<'REPORT'
 import pathlib, re, sys
 root, runs, walks, flags = pathlib.Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
 up, falls, steps, counts = {}, {}, {}, []
+walked, fell = 0, 0  # steps taken before the end or the fall, and falls, over every run and walk
 for k in range(1, runs + 1):
     lines = [p.read_text().split() for p in sorted((root / str(k) / "simulate").glob("*.result"))]
     counts.append(sum(1 for line in lines if line[1] == "up"))
     for line in lines:
+        log = (root / str(k) / "simulate" / f"{line[0]}.log").read_text()
+        take = re.search(r"the take's (\d+) steps", log)
+        taken = re.search(r"after (\d+) of the take's \d+ steps", log)
+        if take:
+            walked += int(taken.group(1)) if taken else int(take.group(1))
+            fell += 1 if taken else 0
         up.setdefault(line[0], 0)
         if line[1] == "up":
             up[line[0]] += 1
@@ -152,6 +159,8 @@ for name in sorted(up):
     print(f"{name} up in {up[name]} of {runs} runs{where}")
 mean = sum(counts) / runs
 label = f" ({flags})" if flags else ""
+if walked:  # the long takes fall and the short ones rarely: per step is the finer measure
+    print(f"falls per 100 steps taken: {100 * fell / walked:.2f} ({fell} falls in {walked} steps)")
 print(f"ground mode{label}, {runs} rounding-level runs: {mean:.2f} of {walks} CMU walks stay up on average "
       f"({min(counts)}-{max(counts)})")
 REPORT
