@@ -37,13 +37,14 @@ Eigen::Vector3d OrientationError(const Eigen::Quaterniond& target, const Eigen::
 }  // namespace
 
 unsigned OperationalSpaceController::keptTaskRows(size_t task) const {
+  // The task's rows sit in its level in bit order, from first_row on.
   const TaskRows& rows = rows_[task];
-  const ControlledTask& controlled = tasks_[task];
-  const int first = controlled.type == TaskType::kPosition ? 3 : 0;
-  const int count = controlled.type == TaskType::kPose ? 6 : 3;
+  const unsigned bits = TaskRowBits(tasks_[task].type);
   unsigned kept = 0;
-  for (int r = 0; r < count; ++r) {
-    if (hierarchy_.rowKept(static_cast<size_t>(rows.level), static_cast<int>(rows.first_row) + r)) kept |= 1u << (first + r);
+  int row = static_cast<int>(rows.first_row);
+  for (int r = 0; r < 6; ++r) {
+    if (!((bits >> r) & 1u)) continue;
+    if (hierarchy_.rowKept(static_cast<size_t>(rows.level), row++)) kept |= 1u << r;
   }
   return kept;
 }

@@ -63,6 +63,12 @@ struct ControllerOptions {
 // Clamps each entry of tau to ±limit; returns how many it clamped.
 int ClipToEffort(const Eigen::VectorXd& limit, Eigen::VectorXd& tau);
 
+// A task's rows as bits: bit r for row r of a pose, 0-2 the angular rows and 3-5 the linear (ground frame);
+// an orientation task has bits 0-2, a position task 3-5.
+[[nodiscard]] constexpr unsigned TaskRowBits(TaskType type) {
+  return type == TaskType::kPose ? 0x3fu : type == TaskType::kOrientation ? 0x07u : 0x38u;
+}
+
 class OperationalSpaceController {
  public:
   OperationalSpaceController(const Model& model, std::vector<ControlledTask> tasks, const ControllerOptions& options);
@@ -91,9 +97,8 @@ class OperationalSpaceController {
   // After calcTorques: how many joint-limit walls the last call made active.
   int activeLimitCount() const { return static_cast<int>(active_limits_.size()); }
 
-  // After calcTorques: which of task `task`'s rows the hierarchy kept, bit r for row r of a pose (0-2 the
-  // angular rows, 3-5 the linear, ground frame; an orientation task has bits 0-2, a position task 3-5).
-  // A dropped row is nearly a combination of the rows kept before it (prioritized_control.h).
+  // After calcTorques: which of task `task`'s rows the hierarchy kept, in TaskRowBits's layout. A dropped
+  // row is nearly a combination of the rows kept before it (prioritized_control.h).
   unsigned keptTaskRows(size_t task) const;
 
   const std::vector<ControlledTask>& tasks() const { return tasks_; }

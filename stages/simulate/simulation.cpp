@@ -252,7 +252,7 @@ std::string SimulateSummary::FullReport() const {
         ++count, kept += tally.kept[static_cast<size_t>(r)];
         if (least < 0 || tally.kept[static_cast<size_t>(r)] < least) least = tally.kept[static_cast<size_t>(r)], least_row = r;
       }
-      out << separator << tally.task << (tally.foot && deepest_penetration_mm >= 0 ? " not held " : " ")
+      out << separator << tally.task << (tally.foot ? " not held " : " ")
           << static_cast<double>(kept) / static_cast<double>(tally.steps) << " of " << count << " ("
           << kRowNames[static_cast<size_t>(least_row)] << " " << 100.0 * static_cast<double>(least) / static_cast<double>(tally.steps)
           << " %)";
@@ -389,8 +389,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     const ControlledTask& task = controller.tasks()[i];
     SimulateSummary::TaskRowsKept tally;
     tally.task = task.landmark;
-    tally.rows = task.type == TaskType::kPose ? 0x3fu : task.type == TaskType::kOrientation ? 0x07u : 0x38u;
-    for (size_t f = 0; f < map.feet.size(); ++f) {
+    tally.rows = TaskRowBits(task.type);
+    for (size_t f = 0; ground && f < map.feet.size(); ++f) {
       if (model.findLinkIndex(map.feet[f].link) == task.link) foot_of_task[i] = static_cast<int>(f);
     }
     tally.foot = foot_of_task[i] >= 0;
@@ -418,7 +418,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     int saturated = controller.calcTorques(workspace, task_references, posture, tau);
     for (size_t i = 0; i < summary.task_rows.size(); ++i) {
       const int foot = foot_of_task[i];
-      if (foot >= 0 && stance_feet && stance_feet->held(static_cast<size_t>(foot))) continue;
+      if (foot >= 0 && stance_feet->held(static_cast<size_t>(foot))) continue;
       const unsigned kept = controller.keptTaskRows(i);
       SimulateSummary::TaskRowsKept& tally = summary.task_rows[i];
       ++tally.steps;
@@ -481,6 +481,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     summary.lowest_pelvis_ratio = std::numeric_limits<double>::infinity();
     summary.peak_vertical_force_n = 0;
   }
+  if (ground) summary.source_steps = SourceTouchdowns(input, contact_column, frames);
   summary.stopped_joint_steps = 0;
   summary.released_contact_steps = ground ? 0 : -1;
   summary.worst_limit_excess_deg = 0;
@@ -554,8 +555,8 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
           std::ostringstream why;
           why.precision(3);
           why << "fell at t = " << input.time_s[static_cast<size_t>(t)] + (step + 1) * dt << " s";
-          if (const int64_t steps_in_take = SourceTouchdowns(input, contact_column, frames); steps_in_take > 0) {
-            why << ", after " << SourceTouchdowns(input, contact_column, t + 1) << " of the take's " << steps_in_take << " steps";
+          if (summary.source_steps > 0) {
+            why << ", after " << SourceTouchdowns(input, contact_column, t + 1) << " of the take's " << summary.source_steps << " steps";
           }
           why << ": the pelvis is " << q[6]
               << " m high, under " << kFallenPelvisRatio * 100 << " % of the reference's " << reference << " m"
@@ -596,7 +597,6 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     summary.held_move_p95_mm = drift.p95_move * 1000;
     summary.held_move_max_mm = drift.largest_move * 1000;
     summary.landings = drift.landings;
-    summary.source_steps = SourceTouchdowns(input, contact_column, frames);
     summary.landing_turn_median_deg = drift.median_landing_turn * kDegreesPerRadian;
     summary.landing_turn_p95_deg = drift.p95_landing_turn * kDegreesPerRadian;
     summary.landing_turn_max_deg = drift.largest_landing_turn * kDegreesPerRadian;

@@ -133,8 +133,8 @@ struct SimulateSummary {
   // own are dropped as dependent on them.
   struct TaskRowsKept {
     std::string task;   // its landmark
-    bool foot = false;  // a map foot's task (ground mode: counted while not held)
-    unsigned rows = 0;  // its rows, in keptTaskRows's bits
+    bool foot = false;  // ground mode: a map foot's task, counted while that foot is not held
+    unsigned rows = 0;  // its rows (TaskRowBits)
     int64_t steps = 0;
     std::array<int64_t, 6> kept{};
   };

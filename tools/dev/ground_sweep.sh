@@ -131,9 +131,11 @@ for k in range(1, runs + 1):
     lines = [p.read_text().split() for p in sorted((root / str(k) / "simulate").glob("*.result"))]
     counts.append(sum(1 for line in lines if line[1] == "up"))
     for line in lines:
+        # The take's steps: -v's landings line when it stayed up, the fall's message ("after N of the
+        # take's M steps") when it fell.
         log = (root / str(k) / "simulate" / f"{line[0]}.log").read_text()
         take = re.search(r"the take's (\d+) steps", log)
-        taken = re.search(r"after (\d+) of the take's \d+ steps", log)
+        taken = re.search(r"after (\d+) of the take's (\d+) steps", log)
         if take:
             walked += int(taken.group(1)) if taken else int(take.group(1))
             fell += 1 if taken else 0
@@ -143,7 +145,6 @@ for k in range(1, runs + 1):
         else:
             time = re.search(r"fell at t = ([0-9.]+) s", " ".join(line))
             falls.setdefault(line[0], []).append(float(time.group(1)) if time else None)
-            taken = re.search(r"after (\d+) of the take's (\d+) steps", " ".join(line))
             if taken:
                 steps.setdefault(line[0], []).append((int(taken.group(1)), int(taken.group(2))))
 for name in sorted(up):
