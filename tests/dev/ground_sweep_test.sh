@@ -126,8 +126,9 @@ for k in (1, 2):
 mean = (counts[1] + counts[2]) / 2
 assert re.search(rf"^falls per 100 steps taken: {100 * falls / walked:.2f} \({falls} falls in {walked} steps\)$", report, re.M), (falls, walked)
 last = report.strip().splitlines()[-1]
+error = abs(counts[1] - counts[2]) / 2  # two runs: the sample deviation |a − b|/√2, over √2
 assert last == (f"ground mode (--swing-lift 0.05), 2 rounding-level runs: {mean:.2f} of 2 CMU walks stay up on average "
-                f"({min(counts.values())}-{max(counts.values())})"), last
+                f"({min(counts.values())}-{max(counts.values())}, standard error {error:.2f})"), last
 CHECK
 set +e
 RUNS=two tools/dev/ground_sweep.sh $build_dir/bin $out > $work/refusal.txt 2>&1

@@ -15,7 +15,7 @@
 # so one sweep is one draw. This runs N sweeps instead, run k with the balance gain (odd k) or kv (even k)
 # moved by ±⌈k/2⌉ × 10⁻⁹ of its value (+ for odd ⌈k/2⌉), the other flags as given, each in
 # OUT_DIR/runs/K/, and prints per walk in how many runs it stayed up (and where it fell), each run's
-# count and their mean: what the issue notes call an ensemble.
+# count, and their mean with its standard error: what the issue notes call an ensemble.
 set -euo pipefail
 
 if [ $# -lt 2 ]; then
@@ -159,9 +159,13 @@ for name in sorted(up):
         where = f" ({where})"
     print(f"{name} up in {up[name]} of {runs} runs{where}")
 mean = sum(counts) / runs
+# The mean's standard error over the runs (sample deviation / √runs): which walks stay up is a draw, and two
+# builds that differ only in rounding gave means 0.5 apart over the same 16 runs (session 46), so a setting
+# is better only by well over two of these of each.
+error = (sum((c - mean) ** 2 for c in counts) / (runs - 1)) ** 0.5 / runs ** 0.5
 label = f" ({flags})" if flags else ""
 if walked:  # the long takes fall and the short ones rarely: per step is the finer measure
     print(f"falls per 100 steps taken: {100 * fell / walked:.2f} ({fell} falls in {walked} steps)")
 print(f"ground mode{label}, {runs} rounding-level runs: {mean:.2f} of {walks} CMU walks stay up on average "
-      f"({min(counts)}-{max(counts)})")
+      f"({min(counts)}-{max(counts)}, standard error {error:.2f})")
 REPORT
