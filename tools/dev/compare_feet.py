@@ -23,6 +23,7 @@ import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "tools", "report"))
+from contact_check import sole_points  # noqa: E402
 from trial_report import read_feet, read_motion  # noqa: E402
 from urdf_fk import Robot  # noqa: E402
 
@@ -35,7 +36,7 @@ def foot_tracks(robot, motion, feet):
     tracks = {}
     for side, link, soles in feet:
         i = robot.index[link]
-        points = positions[:, i, None, :] + np.einsum("tij,pj->tpi", rotations[:, i], soles)
+        points = sole_points(rotations[:, i], positions[:, i], soles)
         heading = np.unwrap(np.arctan2(rotations[:, i, 1, 0], rotations[:, i, 0, 0]))
         tracks[side] = (points.mean(axis=1), points[:, :, 2].min(axis=1), heading)
     root = 0  # Robot's links are in tree order: the root link (a free base's pelvis) first
@@ -48,12 +49,8 @@ def touchdowns(reference, frames):
     contact = reference.get("contact")
     if contact is None:
         return []
-    found = []
-    for t in range(1, min(frames, len(contact))):
-        for f in range(contact.shape[1]):
-            if contact[t, f] and not contact[t - 1, f]:
-                found.append((t, f))
-    return found
+    contact = contact[:frames]
+    return [(t + 1, f) for t, f in np.argwhere(contact[1:] & ~contact[:-1])]
 
 
 def main():

@@ -123,7 +123,7 @@ print(repr(gain * factor) if k % 2 else repr(gain), repr(kv) if k % 2 else repr(
   echo "run $k (--balance-gain $run_gain --kv $run_kv): $up of $walk_count up"
 done
 python3 - "$out/runs" "$runs" "$walk_count" "${other[*]}" <<'REPORT'
-import pathlib, re, sys
+import pathlib, re, statistics, sys
 root, runs, walks, flags = pathlib.Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
 up, falls, steps, counts = {}, {}, {}, []
 walked, fell = 0, 0  # steps taken before the end or the fall, and falls, over every run and walk
@@ -162,7 +162,7 @@ mean = sum(counts) / runs
 # The mean's standard error over the runs (sample deviation / √runs): which walks stay up is a draw, and two
 # builds that differ only in rounding gave means 0.5 apart over the same 16 runs (session 46), so a setting
 # is better only by well over two of these of each.
-error = (sum((c - mean) ** 2 for c in counts) / (runs - 1)) ** 0.5 / runs ** 0.5
+error = statistics.stdev(counts) / runs ** 0.5
 label = f" ({flags})" if flags else ""
 if walked:  # the long takes fall and the short ones rarely: per step is the finer measure
     print(f"falls per 100 steps taken: {100 * fell / walked:.2f} ({fell} falls in {walked} steps)")
