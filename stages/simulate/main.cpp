@@ -76,6 +76,10 @@ int main(int argc, char** argv) {
                  "planned sole forces favour its moments over its force (1: N·m against N one to one; a brisk walk "
                  "that tips over may stay up at 2, at some cost to others: README)")
       ->capture_default_str();
+  bool no_swing_heading = false;
+  app.add_flag("--no-swing-heading", no_swing_heading,
+               "Ground mode: leave a swinging foot's heading to its task at the map's priority instead of a level "
+               "above the tasks (for diagnosis: feet then land turned more often)");
   std::string fall_record;
   app.add_option("--fall-record", fall_record,
                  "Ground mode: when the robot falls, write the frames simulated before the fall to this motion file "
@@ -91,6 +95,7 @@ int main(int argc, char** argv) {
     options.controller.effort_limits = !no_effort_limits;
     options.controller.joint_limits = !no_joint_limits;
     options.balance = !no_balance;
+    options.swing_heading = !no_swing_heading;
   });
   app.add_option("--targets", options.targets,
                  "kinematic: track the link poses of the retargeted q; landmarks: track the landmark targets "

@@ -12,9 +12,16 @@ namespace {
 constexpr int kLimitPasses = 3;
 // Rounds of re-solving the free torques after some clipped (see redistributeClippedTorque).
 constexpr int kClipRounds = 3;
-// Levels 0-2: the joint-limit walls, the standing feet and the centre of mass (both ground mode; empty
-// otherwise).
-constexpr int kStanceLevel = 1, kCentreOfMassLevel = 2, kFirstTaskLevel = 3;
+// Levels 0-3: the joint-limit walls, the standing feet, the swinging feet's headings and the centre of mass
+// (the last three ground mode; empty otherwise).
+constexpr int kStanceLevel = 1, kSwingingFeetLevel = 2, kCentreOfMassLevel = 3, kFirstTaskLevel = 4;
+// The swinging feet's heading rows are few and far from dependent on the held feet's (a hip yaw turns a
+// swinging foot whatever the stance leg does); this cutoff only keeps out a row with no authority left.
+constexpr double kSwingingFeetCutoff = 1e-6;
+
+// The row of a task's Jacobian that turns its link about the vertical (ground z): the third of the angular
+// rows, which come first in pose and orientation tasks alike.
+constexpr int kHeadingRow = 2;
 
 // A joint with a limit within 0.2 rad of its zero: a knee (G1 −0.087 … 2.88 rad) or an elbow whose zero
 // is the straight limb, where the limit is the straight configuration and past it lies the mirrored
@@ -45,6 +52,11 @@ unsigned OperationalSpaceController::keptTaskRows(size_t task) const {
   for (int r = 0; r < 6; ++r) {
     if (!((bits >> r) & 1u)) continue;
     if (hierarchy_.rowKept(static_cast<size_t>(rows.level), row++)) kept |= 1u << r;
+  }
+  const auto swinging = std::find(swinging_feet_.begin(), swinging_feet_.end(), task);
+  if (swinging != swinging_feet_.end() &&
+      hierarchy_.rowKept(static_cast<size_t>(kSwingingFeetLevel), static_cast<int>(swinging - swinging_feet_.begin()))) {
+    kept |= 1u << kHeadingRow;
   }
   return kept;
 }
@@ -100,6 +112,8 @@ OperationalSpaceController::OperationalSpaceController(const Model& model, std::
     }
   }
   free_.reserve(static_cast<size_t>(nu));
+  swinging_feet_.reserve(tasks_.size());
+  levels_[kSwingingFeetLevel].independence_cutoff = kSwingingFeetCutoff;
   jacobian_.resize(6, nu);
   posture_acceleration_.resize(nu);
   bias_forces_.resize(nu);
@@ -156,6 +170,7 @@ int OperationalSpaceController::calcTorques(Workspace& workspace, const std::vec
     stance.jacobian.resize(0, workspace.model().nu());
     stance.acceleration.resize(0);
   }
+  fillSwingingFeetLevel(workspace.model().nu());
   active_limits_.clear();
   PriorityLevel& walls = levels_[0];
   walls.jacobian.resize(0, workspace.model().nu());
@@ -195,6 +210,28 @@ void OperationalSpaceController::setStanceLevel(const Eigen::MatrixXd& jacobian,
 }
 
 void OperationalSpaceController::clearStanceLevel() { stance_level_ = false; }
+
+void OperationalSpaceController::setSwingingFeet(const std::vector<size_t>& tasks) {
+  swinging_feet_.clear();
+  for (const size_t task : tasks) {
+    if (tasks_[task].type != TaskType::kPosition) swinging_feet_.push_back(task);
+  }
+}
+
+void OperationalSpaceController::fillSwingingFeetLevel(int nu) {
+  // Each swinging foot's heading row and its wanted acceleration, as the task loop just wrote them at the
+  // task's own priority.
+  PriorityLevel& level = levels_[kSwingingFeetLevel];
+  const Eigen::Index rows = static_cast<Eigen::Index>(swinging_feet_.size());
+  level.jacobian.resize(rows, nu);
+  level.acceleration.resize(rows);
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    const TaskRows& task = rows_[swinging_feet_[static_cast<size_t>(r)]];
+    const PriorityLevel& own = levels_[static_cast<size_t>(task.level)];
+    level.jacobian.row(r) = own.jacobian.row(task.first_row + kHeadingRow);
+    level.acceleration[r] = own.acceleration[task.first_row + kHeadingRow];
+  }
+}
 
 void OperationalSpaceController::calcAcceleration(const Eigen::VectorXd& tau, Eigen::VectorXd& udot) const {
   udot = tau - bias_forces_;

@@ -90,6 +90,14 @@ class OperationalSpaceController {
   // down: jacobian u̇ = acceleration.
   void setStanceLevel(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& acceleration);
   void clearStanceLevel();
+  // Ground mode: a level between the standing feet's and the centre of mass's, each swinging foot's heading
+  // (its task's rotation about the vertical, what that task's PD asks of it), kept exactly. At priority 1 a
+  // swinging foot's yaw row shares the hierarchy's independence cutoff with the pelvis, hands and head, and
+  // was dropped in 60-65 % of the steps (CMU 02_01, 12_03 onto G1): a leg straightening for its landing
+  // spun its hip yaw unopposed, and the foot landed turned (09_12: 45° off the reference's heading, then the
+  // robot fell over a sole turned across its path; 03_03: 63°). `tasks`: the map tasks of the swinging feet
+  // (pose or orientation tasks; none clears the level). Held until the next call.
+  void setSwingingFeet(const std::vector<size_t>& tasks);
 
   // After calcTorques: A and b + g at its state.
   const Eigen::MatrixXd& massMatrix() const { return mass_.mass(); }
@@ -98,7 +106,9 @@ class OperationalSpaceController {
   int activeLimitCount() const { return static_cast<int>(active_limits_.size()); }
 
   // After calcTorques: which of task `task`'s rows the hierarchy kept, in TaskRowBits's layout. A dropped
-  // row is nearly a combination of the rows kept before it (prioritized_control.h).
+  // row is nearly a combination of the rows kept before it (prioritized_control.h). A swinging foot's
+  // heading row counts as kept where the swinging feet's level kept it (its copy at the task's own priority
+  // then has nothing left to do and drops).
   unsigned keptTaskRows(size_t task) const;
 
   const std::vector<ControlledTask>& tasks() const { return tasks_; }
@@ -114,11 +124,12 @@ class OperationalSpaceController {
   ControllerOptions options_;
   std::vector<ControlledTask> tasks_;
   std::vector<TaskRows> rows_;
-  std::vector<PriorityLevel> levels_;  // walls, standing feet, centre of mass, then the tasks' priorities
+  std::vector<PriorityLevel> levels_;  // walls, standing feet, swinging feet's headings, centre of mass, then the tasks' priorities
   std::vector<int> base_velocities_;
   Eigen::VectorXd base_force_;
   bool com_level_ = false;
   bool stance_level_ = false;
+  std::vector<size_t> swinging_feet_;  // tasks whose heading row is in the swinging feet's level, in its row order
   PrioritizedControl hierarchy_;
   TreeMassFactorization mass_;  // A at the step's configuration, factored once for every A⁻¹ x
   bool free_base_;
@@ -135,6 +146,7 @@ class OperationalSpaceController {
   std::vector<ActiveLimit> active_limits_;
   Eigen::VectorXd planned_udot_;
   bool addViolatedWalls(Workspace& workspace, const Eigen::VectorXd& task_torques);
+  void fillSwingingFeetLevel(int nu);
   std::vector<std::pair<int, int>> joint_q_u_;  // (q index, u index) of every 1-dof joint
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
   Eigen::VectorXd posture_acceleration_, bias_forces_, zero_;

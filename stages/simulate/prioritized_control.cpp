@@ -13,7 +13,7 @@ constexpr double kDroppedRow = 1e-10;
 
 }  // namespace
 
-void PrioritizedControl::invertKeptRows(SolvedLevel& solved) const {
+void PrioritizedControl::invertKeptRows(SolvedLevel& solved, double independence_cutoff) const {
   // Pivoted Cholesky of Φ' in place, left-looking (as LAPACK's dpstf2): L in the lower triangle of the
   // first `rank` columns; a column of L is formed when its row is taken, from Φ' and the columns before
   // it, so only the remaining rows' Schur diagonal is updated each step. Rows and columns are swapped
@@ -30,7 +30,7 @@ void PrioritizedControl::invertKeptRows(SolvedLevel& solved) const {
     for (int i = rank + 1; i < rows; ++i) {
       if (solved.schur_diagonal[i] > solved.schur_diagonal[next]) next = i;
     }
-    if (!(solved.schur_diagonal[next] >= options_.independence_cutoff)) break;
+    if (!(solved.schur_diagonal[next] >= independence_cutoff)) break;
     if (next != rank) {
       factor.row(rank).swap(factor.row(next));
       factor.col(rank).swap(factor.col(next));
@@ -158,7 +158,7 @@ void PrioritizedControl::calcTorques(Workspace& workspace, const TreeMassFactori
     // F_k = Λ̃_k (ẍ*_k − J̇_k u − J_k A⁻¹ Γ_{<k}).
     solved.residual = level.acceleration;
     solved.residual.noalias() -= level.jacobian * udot_tasks_;
-    invertKeptRows(solved);
+    invertKeptRows(solved, level.independence_cutoff >= 0 ? level.independence_cutoff : options_.independence_cutoff);
     udot_tasks_.noalias() += solved.j_minv.transpose() * solved.force;
     torques.noalias() += solved.projected.transpose() * solved.force;
   }

@@ -48,6 +48,8 @@ namespace syn {
 struct PriorityLevel {
   Eigen::MatrixXd jacobian;       // J_k [m_k, nu]
   Eigen::VectorXd acceleration;   // ẍ*_k − J̇_k u [m_k]: the wanted task acceleration minus the velocity term
+  // This level's own independence cutoff (PrioritizedControlOptions); negative: the options'.
+  double independence_cutoff = -1;
 };
 
 struct PrioritizedControlOptions {
@@ -101,7 +103,7 @@ class PrioritizedControl {
     int rank = 0;
   };
   // Λ_k, F_k and the rank from the unit-diagonal Φ' (solved.operational), row_scale and residual.
-  void invertKeptRows(SolvedLevel& solved) const;
+  void invertKeptRows(SolvedLevel& solved, double independence_cutoff) const;
   PrioritizedControlOptions options_;
   std::vector<SolvedLevel> solved_;
   Eigen::VectorXd udot_tasks_, column_, product_;

@@ -192,7 +192,8 @@ nlohmann::json SimulateOptions::ToJson() const {
           {"integrator", std::string(IntegratorName(integrator))},
           {"no_balance", !balance},
           {"balance_gain", balance_gain}, {"step_adjustment", step_adjustment},
-          {"swing_lift", swing_lift}, {"support_margin", support_margin}, {"moment_weight", moment_weight}};
+          {"swing_lift", swing_lift}, {"support_margin", support_margin}, {"moment_weight", moment_weight},
+          {"no_swing_heading", !swing_heading}};
 }
 
 std::string SimulateSummary::BriefReport() const {
@@ -398,6 +399,13 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   }
   double joint_sq = 0, joint_max = 0, p1_position_sq = 0, p1_angle_sq = 0;
   int64_t joint_count = 0, p1_position_count = 0, p1_angle_count = 0;
+  // Ground mode: per map foot its task's index (-1: none), and the swinging feet's tasks per control step.
+  std::vector<int> task_of_foot(map.feet.size(), -1);
+  for (size_t i = 0; i < foot_of_task.size(); ++i) {
+    if (foot_of_task[i] >= 0) task_of_foot[static_cast<size_t>(foot_of_task[i])] = static_cast<int>(i);
+  }
+  std::vector<size_t> swinging_feet;
+  swinging_feet.reserve(map.feet.size());
   const auto control = [&](int64_t frame, double fraction, double dt) {
     workspace.setQ(q);
     workspace.setU(u);
@@ -415,6 +423,14 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
       }
     }
     if (balance_controller) balance_controller->apply(workspace, frame, fraction, planted.data(), task_references, controller);
+    if (stance_feet && options.swing_heading) {
+      // A foot the source lifts and the stance level does not hold.
+      swinging_feet.clear();
+      for (size_t f = 0; f < map.feet.size(); ++f) {
+        if (planted[f] == 0 && !stance_feet->held(f) && task_of_foot[f] >= 0) swinging_feet.push_back(static_cast<size_t>(task_of_foot[f]));
+      }
+      controller.setSwingingFeet(swinging_feet);
+    }
     int saturated = controller.calcTorques(workspace, task_references, posture, tau);
     for (size_t i = 0; i < summary.task_rows.size(); ++i) {
       const int foot = foot_of_task[i];
