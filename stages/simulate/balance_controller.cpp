@@ -101,6 +101,7 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
     if (!standing_[f]) support_.insert(support_.end(), touching_[f].begin(), touching_[f].end());
   }
   state_ = BalanceSample{};
+  command_ = BalanceCommand{};
   if (support_.empty() || base_link_ < 0 || translation_velocities_.empty()) {
     controller.clearCentreOfMassLevel();
     return;
@@ -129,6 +130,7 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
   force.head<2>() = mass_ * horizontal;
   const double tangential = force.head<2>().norm(), cone = options_.friction * force.z();
   if (tangential > cone) force.head<2>() *= cone / tangential;
+  command_ = {com.head<2>(), capture_error, zmp_plan, wanted_zmp, commanded_zmp, force};
 
   // The generalized forces that force makes on the translating base velocities: their Jacobian columns
   // (pure translations) dotted with it.

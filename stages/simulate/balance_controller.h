@@ -75,6 +75,14 @@ struct BalanceControllerOptions {
   double swing_lift = 0.04;
 };
 
+// What the level decided at one control step (ground frame; zero where no sole touched): for
+// `--control-trace` (control_trace.h).
+struct BalanceCommand {
+  Eigen::Vector2d com = Eigen::Vector2d::Zero(), capture_error = Eigen::Vector2d::Zero();
+  Eigen::Vector2d plan_zmp = Eigen::Vector2d::Zero(), wanted_zmp = Eigen::Vector2d::Zero(), commanded_zmp = Eigen::Vector2d::Zero();
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // the ground force the level asks for, N
+};
+
 class BalanceController {
  public:
   BalanceController(const Model& model, const RobotMap& map, const BalanceShift& plan,
@@ -88,6 +96,7 @@ class BalanceController {
 
   // After apply: what it saw (the balance fields of a BalanceSample; time and the rest are the caller's).
   const BalanceSample& state() const { return state_; }
+  const BalanceCommand& command() const { return command_; }
 
  private:
   const BalanceShift& plan_;
@@ -119,6 +128,7 @@ class BalanceController {
   std::vector<bool> standing_;
   std::vector<Eigen::Vector2d> support_, hull_;
   BalanceSample state_;
+  BalanceCommand command_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
   Eigen::VectorXd base_force_;
 };

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "common/cli.h"
+#include "common/file_bytes.h"
 #include "common/intermediate_file.h"
 #include "common/model.h"
 #include "common/motion_file.h"
@@ -84,6 +85,11 @@ int main(int argc, char** argv) {
   app.add_option("--fall-record", fall_record,
                  "Ground mode: when the robot falls, write the frames simulated before the fall to this motion file "
                  "(for looking at how it fell; the output is still not written, and the stage still exits 1)");
+  std::string control_trace;
+  app.add_option("--control-trace", control_trace,
+                 "Ground mode: write the balance loop per control step to this CSV (the level's force and zero-moment "
+                 "points, the planned and applied sole forces; columns in stages/simulate/control_trace.h), whether the "
+                 "robot stays up or falls");
   bool no_joint_limits = false;
   app.add_flag("--no-joint-limits", no_joint_limits,
                "Do not hold joints inside the URDF's position limits (for diagnosis: without them a straightening "
@@ -120,6 +126,14 @@ int main(int argc, char** argv) {
     if (!fall_record.empty() && std::filesystem::path(fall_record) == std::filesystem::path(common.output)) {
       throw syn::UsageError("--fall-record must name another file than -o (a fall leaves no output)");
     }
+    if (!control_trace.empty() && (options.contact != syn::ContactMode::kGround || !options.balance)) {
+      throw syn::UsageError("--control-trace needs --contact ground with its balance controller (no --no-balance)");
+    }
+    for (const std::string* other : {&common.output, &fall_record}) {
+      if (!control_trace.empty() && !other->empty() && std::filesystem::path(control_trace) == std::filesystem::path(*other)) {
+        throw syn::UsageError("--control-trace must name another file than -o and --fall-record");
+      }
+    }
     // Before the simulation, so that a run that falls says with what it fell.
     if (common.verbose) std::cerr << "syn-simulate: parameters " << syn::CanonicalJson(parameters()) << "\n";
     const syn::Model model = syn::LoadModel(model_path, floating_base);
@@ -134,10 +148,18 @@ int main(int argc, char** argv) {
     provenance.inputs = nlohmann::json::array(
         {syn::DescribeInput(input), syn::DescribeInput(model_path), syn::DescribeInput(map_path)});
     syn::SimulationResult result;
+    syn::ControlTrace trace;
+    syn::ControlTrace* tracing = control_trace.empty() ? nullptr : &trace;
+    const auto write_trace = [&] {
+      if (tracing == nullptr) return;
+      syn::WriteFileAtomically(control_trace, trace.ToCsv());
+      std::cerr << "syn-simulate: " << trace.rows().size() << " control steps written to " << control_trace << "\n";
+    };
     const auto start = std::chrono::steady_clock::now();
     try {
-      result = syn::Simulate(motion, input, model, map, options);
+      result = syn::Simulate(motion, input, model, map, options, tracing);
     } catch (const syn::FallError& fall) {
+      write_trace();
       if (!fall_record.empty()) {
         syn::IntermediateWriter record(fall_record, provenance);
         syn::WriteMotionData(record, fall.beforeFall());
@@ -148,6 +170,7 @@ int main(int argc, char** argv) {
       throw;
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    write_trace();
 
     syn::IntermediateWriter writer(common.output, provenance);
     syn::WriteMotionData(writer, result.motion);

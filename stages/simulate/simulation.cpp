@@ -274,7 +274,7 @@ std::vector<ControlledTask> ControllerTasks(std::vector<ControlledTask> tasks, c
 }
 
 SimulationResult Simulate(const MotionData& input, const std::string& input_name, const Model& model,
-                          const RobotMap& map, const SimulateOptions& options) {
+                          const RobotMap& map, const SimulateOptions& options, ControlTrace* trace) {
   std::string problem;
   if (!options.IsValid(&problem)) throw UsageError(problem);
   CheckMotionMatchesModel(input, model);
@@ -406,6 +406,29 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   }
   std::vector<size_t> swinging_feet;
   swinging_feet.reserve(map.feet.size());
+  ControlTraceRow trace_row;
+  const auto record_control_step = [&](int64_t frame, double fraction, double dt, const Eigen::VectorXd& velocity,
+                                     const Eigen::VectorXd& acceleration, ControlTrace& out) {
+    const size_t a = static_cast<size_t>(frame), b = std::min(a + 1, input.time_s.size() - 1);
+    const BalanceCommand& command = balance_controller->command();
+    trace_row.time = (1 - fraction) * input.time_s[a] + fraction * input.time_s[b];
+    trace_row.frame = frame;
+    trace_row.balancing = balance_controller->state().balancing;
+    trace_row.com = command.com;
+    trace_row.capture_error = command.capture_error;
+    trace_row.plan_zmp = command.plan_zmp;
+    trace_row.wanted_zmp = command.wanted_zmp;
+    trace_row.commanded_zmp = command.commanded_zmp;
+    trace_row.level_force = command.force;
+    trace_row.planned_force.setZero();
+    for (const Eigen::Vector3d& force : distribution->planned().foot_force) trace_row.planned_force += force;
+    trace_row.applied_force.setZero();
+    for (const Eigen::Vector3d& force : ground_contact->appliedFootForce(velocity, acceleration, dt)) trace_row.applied_force += force;
+    trace_row.unexplained = distribution->planned().unexplained;
+    trace_row.landing_needed = balance_controller->state().landing_needed;
+    out.add(trace_row);
+  };
+  if (trace != nullptr) trace->reserve(static_cast<size_t>(std::ceil((input.time_s.back() - input.time_s.front()) * options.rate)) + static_cast<size_t>(input.frames()) + 1);
   const auto control = [&](int64_t frame, double fraction, double dt) {
     workspace.setQ(q);
     workspace.setU(u);
@@ -483,6 +506,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
         if (round == 0) ++summary.released_contact_steps;
       }
     }
+    if (trace != nullptr && balance_controller) record_control_step(frame, fraction, dt, u, udot, *trace);
     summary.saturated_entries += saturated;
     summary.saturated_steps += saturated > 0 ? 1 : 0;
     summary.limited_steps += controller.activeLimitCount() > 0 ? 1 : 0;

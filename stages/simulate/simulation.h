@@ -20,6 +20,7 @@
 #include "common/motion_file.h"
 #include "common/robot_map.h"
 #include "stages/simulate/balanced_reference.h"
+#include "stages/simulate/control_trace.h"
 #include "stages/simulate/contact_consistent_torques.h"
 #include "stages/simulate/fixed_step_integrator.h"
 #include "stages/simulate/operational_space_controller.h"
@@ -184,8 +185,9 @@ class FallError : public DataError {
 
 // Throws DataError (naming `motion_name`, the file it came from) when the motion does not fit the model,
 // has no frames or the simulation diverges, and in ground mode FallError when the robot falls ("fell at
-// t = … s": the pelvis under 60 % of the reference's height at that time).
+// t = … s": the pelvis under 60 % of the reference's height at that time). With `trace`, in ground mode with
+// balance, one row per control step up to the end or the fall (control_trace.h).
 [[nodiscard]] SimulationResult Simulate(const MotionData& motion, const std::string& motion_name, const Model& model,
-                                        const RobotMap& map, const SimulateOptions& options);
+                                        const RobotMap& map, const SimulateOptions& options, ControlTrace* trace = nullptr);
 
 }  // namespace syn

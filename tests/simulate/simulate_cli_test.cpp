@@ -62,8 +62,21 @@ TEST(SimulateCli, FallRecordNeedsTheGroundAndItsOwnFile) {
   EXPECT_NE(same.output.find("--fall-record must name another file than -o"), std::string::npos) << same.output;
 }
 
+TEST(SimulateCli, ControlTraceNeedsTheBalanceControllerAndItsOwnFile) {
+  for (const char* flags : {"", "--contact ground --no-balance"}) {
+    const CommandResult refused = RunCommand(Tool() + " in.motion.h5 -o out.motion.h5 --control-trace t.csv " + flags);
+    EXPECT_EQ(refused.exit_code, 2) << refused.output;
+    EXPECT_NE(refused.output.find("--control-trace needs --contact ground"), std::string::npos) << refused.output;
+  }
+  for (const char* clash : {"-o t.csv", "-o out.motion.h5 --fall-record t.csv"}) {
+    const CommandResult same = RunCommand(Tool() + " in.motion.h5 --contact ground --control-trace t.csv " + clash);
+    EXPECT_EQ(same.exit_code, 2) << same.output;
+    EXPECT_NE(same.output.find("--control-trace must name another file"), std::string::npos) << same.output;
+  }
+}
+
 // A robot shoved off its feet: exit 1 with the fall's time, no output, and with --fall-record the frames
-// before the fall in a motion file the readers accept.
+// before the fall in a motion file the readers accept; with --control-trace the balance loop up to the fall.
 TEST(SimulateCli, AFallLeavesNoOutputButItsRecord) {
   const Model model = Model::Load(SourcePath(kG1Urdf));
   const RobotMap map = LoadRobotMap(SourcePath(kG1Map));
@@ -77,7 +90,7 @@ TEST(SimulateCli, AFallLeavesNoOutputButItsRecord) {
     writer.commit();
   }
   const CommandResult result = RunCommand(Tool() + " " + dir + "/shoved.motion.h5 -o " + dir + "/out.motion.h5 --contact ground --fall-record " +
-                                          dir + "/fall.motion.h5");
+                                          dir + "/fall.motion.h5 --control-trace " + dir + "/fall.csv");
   EXPECT_EQ(result.exit_code, 1) << result.output;
   EXPECT_NE(result.output.find("fell at t = "), std::string::npos) << result.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.motion.h5"));
@@ -86,9 +99,20 @@ TEST(SimulateCli, AFallLeavesNoOutputButItsRecord) {
   EXPECT_LT(record.frames(), motion.frames());
   EXPECT_NE(result.output.find("the " + std::to_string(record.frames()) + " frames before the fall written to"), std::string::npos)
       << result.output;
+  // The trace: a header and one line per control step up to the fall, which came after the record's last
+  // frame (1 kHz, 1/120 s frames: 8-9 steps a frame).
+  std::ifstream csv(dir + "/fall.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  EXPECT_EQ(line.rfind("time,frame,balancing,", 0), 0u) << line;
+  int64_t steps = 0;
+  while (std::getline(csv, line)) ++steps;
+  EXPECT_GE(steps, 8 * (record.frames() - 1)) << result.output;
+  EXPECT_LE(steps, 9 * (record.frames() + 1)) << result.output;
+  EXPECT_NE(result.output.find(std::to_string(steps) + " control steps written to"), std::string::npos) << result.output;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     const std::string name = entry.path().filename().string();
-    EXPECT_TRUE(name == "shoved.motion.h5" || name == "fall.motion.h5") << "left behind: " << name;
+    EXPECT_TRUE(name == "shoved.motion.h5" || name == "fall.motion.h5" || name == "fall.csv") << "left behind: " << name;
   }
   std::filesystem::remove_all(dir);
 }

@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -624,6 +625,57 @@ TEST_F(GroundMode, SwingingFeetLandAtTheReferenceHeading) {
                 "%.1f without\n", name, largest[0], largest[1]);
     EXPECT_LT(largest[0], largest[1]) << name;
   }
+}
+
+// `--control-trace` (control_trace.h) on the demo's 02_01 in ground mode: a row per control call, and
+// tracing changes nothing simulated. Its applied sole forces are the floor's whole push: over the run their
+// impulse less the weight's equals the change of the body's momentum, which the test takes from the
+// recorded first and last frames' velocities (Simbody's centroidal momentum), not from the trace.
+TEST_F(GroundMode, ControlTraceAccountsForTheBodysMomentum) {
+  const MotionData& walk = DemoMotionOnG1("02_01");
+  const SimulationResult plain = Simulate(walk, "02_01", model, map, options);
+  ControlTrace trace;
+  const SimulationResult traced = Simulate(walk, "02_01", model, map, options, &trace);
+  EXPECT_EQ(traced.motion.q, plain.motion.q) << "tracing changed the simulation";
+  EXPECT_EQ(traced.motion.tau, plain.motion.tau) << "tracing changed the simulation";
+  const std::vector<ControlTraceRow>& rows = trace.rows();
+  ASSERT_EQ(static_cast<int64_t>(rows.size()), traced.summary.steps + 1) << "one row per control call";
+  const double weight = model.totalMass() * model.gravity();
+  Eigen::Vector3d impulse = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i + 1 < rows.size(); ++i) {
+    const double dt = rows[i + 1].time - rows[i].time;
+    ASSERT_GT(dt, 0) << "row " << i;
+    impulse += dt * (rows[i].applied_force - Eigen::Vector3d(0, 0, weight));
+    if (rows[i].balancing) {
+      EXPECT_GE(rows[i].level_force.z(), 0.2 * weight - 1e-9) << "row " << i;
+      EXPECT_LE(rows[i].level_force.z(), 3.0 * weight + 1e-9) << "row " << i;
+    }
+  }
+  EXPECT_EQ(rows.back().time, walk.time_s.back());
+  Workspace workspace(model);
+  const auto momentum = [&](int64_t frame) {
+    const size_t nq = static_cast<size_t>(model.nq()), nu = static_cast<size_t>(model.nu());
+    workspace.setQ(Eigen::Map<const Eigen::VectorXd>(&traced.motion.q[static_cast<size_t>(frame) * nq], model.nq()));
+    workspace.setU(Eigen::Map<const Eigen::VectorXd>(&traced.motion.u[static_cast<size_t>(frame) * nu], model.nu()));
+    return Eigen::Vector3d(workspace.calcCentroidalMomentum().tail<3>());
+  };
+  const Eigen::Vector3d change = momentum(walk.frames() - 1) - momentum(0);
+  std::printf("02_01 over %.2f s: floor impulse less the weight's (%.3f, %.3f, %.3f) N s, momentum change (%.3f, %.3f, %.3f) N s; "
+              "the weight's impulse %.1f N s\n", rows.back().time - rows.front().time, impulse.x(), impulse.y(), impulse.z(), change.x(),
+              change.y(), change.z(), weight * (rows.back().time - rows.front().time));
+  // Session 47: (9.563, 2.534, -1.191) against (9.493, 2.546, -1.193) N s, the weight's impulse 981 N s.
+  EXPECT_GT(change.head<2>().norm(), 5.0) << "a walk that goes somewhere";
+  EXPECT_LT((impulse - change).norm(), 0.3);
+  // The CSV: a header and a line per row, 29 columns each.
+  const std::string csv = trace.ToCsv();
+  std::istringstream lines(csv);
+  std::string line;
+  int64_t count = -1;
+  while (std::getline(lines, line)) {
+    ++count;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 28) << "line " << count;
+  }
+  EXPECT_EQ(count, static_cast<int64_t>(rows.size()));
 }
 
 // Paper mode (a driven base, no floor) on the CMU dances, at the defaults (the URDF's effort limits): the
