@@ -104,6 +104,7 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
   command_ = BalanceCommand{};
   if (support_.empty() || base_link_ < 0 || translation_velocities_.empty()) {
     controller.clearCentreOfMassLevel();
+    reportLanding(fraction);
     return;
   }
   ConvexHull(support_, hull_);
@@ -143,12 +144,21 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
     step((1 - s) * plan_.time[a] + s * plan_.time[b], a, planted, capture_error, zmp_plan, omega, references);
   }
 
+  reportLanding(fraction);
   if (base_task_ >= 0) {
     TaskReference& reference = references[static_cast<size_t>(base_task_)];
     reference.position.head<2>() = com.head<2>() + (reference.position.head<2>() - com_plan);
     reference.velocity.segment<2>(3) = velocity.head<2>() + (reference.velocity.segment<2>(3) - velocity_plan);
     reference.acceleration.segment<2>(3) = horizontal + (reference.acceleration.segment<2>(3) - acceleration_plan);
   }
+}
+
+void BalanceController::reportLanding(double fraction) {
+  // Only the calls at a frame (fraction 0) are recorded. A landing seen between frames (at a call after one
+  // with no sole on the floor, which does not step: a brisk walk's flight) waits for the next frame's.
+  if (fraction != 0.0) return;
+  state_.landing_miss = unreported_miss_;
+  unreported_miss_ = -1;
 }
 
 Eigen::Vector2d BalanceController::PredictedCaptureError(const Eigen::Vector2d& capture_error,
@@ -177,7 +187,7 @@ void BalanceController::step(double now, size_t frame, const int64_t* planted, c
     if (planted[f] != 0) {
       if (!was_planted_[f]) plan_offset_ += landing_shift_[f];  // it landed: the plan walks on from there
       if (aimed_[f]) {
-        state_.landing_miss = std::max(state_.landing_miss, (foot_position_[f] - landing_aim_[f]).norm());
+        unreported_miss_ = std::max(unreported_miss_, (foot_position_[f] - landing_aim_[f]).norm());
         aimed_[f] = false;
       }
       landing_shift_[f].setZero();

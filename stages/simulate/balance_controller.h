@@ -129,6 +129,9 @@ class BalanceController {
   std::vector<Eigen::Vector2d> support_, hull_;
   BalanceSample state_;
   BalanceCommand command_;
+  // m: the largest landing miss since the last call at a frame (-1: none); reportLanding puts it in state_.
+  double unreported_miss_ = -1;
+  void reportLanding(double fraction);
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
   Eigen::VectorXd base_force_;
 };

@@ -81,6 +81,11 @@ int main(int argc, char** argv) {
   app.add_flag("--no-swing-heading", no_swing_heading,
                "Ground mode: leave a swinging foot's heading to its task at the map's priority instead of a level "
                "above the tasks (for diagnosis: feet then land turned more often)");
+  app.add_option("--swing-landing", options.swing_landing,
+                 "Ground mode: over this last fraction of a swing (the source's lift-off to touchdown) the swinging "
+                 "foot's position is kept exactly with its heading, so that it lands where the stepping aims it (0: "
+                 "left to its task)")
+      ->capture_default_str();
   std::string fall_record;
   app.add_option("--fall-record", fall_record,
                  "Ground mode: when the robot falls, write the frames simulated before the fall to this motion file "

@@ -15,13 +15,14 @@ constexpr int kClipRounds = 3;
 // Levels 0-3: the joint-limit walls, the standing feet, the swinging feet's headings and the centre of mass
 // (the last three ground mode; empty otherwise).
 constexpr int kStanceLevel = 1, kSwingingFeetLevel = 2, kCentreOfMassLevel = 3, kFirstTaskLevel = 4;
-// The swinging feet's heading rows are few and far from dependent on the held feet's (a hip yaw turns a
-// swinging foot whatever the stance leg does); this cutoff only keeps out a row with no authority left.
+// The swinging feet's rows are few and far from dependent on the held feet's (a swinging leg moves its foot
+// whatever the stance leg does); this cutoff only keeps out a row with no authority left.
 constexpr double kSwingingFeetCutoff = 1e-6;
 
-// The row of a task's Jacobian that turns its link about the vertical (ground z): the third of the angular
-// rows, which come first in pose and orientation tasks alike.
-constexpr int kHeadingRow = 2;
+// Rows of a task's Jacobian in TaskRowBits's layout: the one that turns its link about the vertical (ground
+// z), the third of the angular rows, which come first in pose and orientation tasks alike; and a pose task's
+// horizontal position rows (x, y in ground; z, the height, follows).
+constexpr int kHeadingRow = 2, kPositionXRow = 3, kPositionYRow = 4;
 
 // A joint with a limit within 0.2 rad of its zero: a knee (G1 −0.087 … 2.88 rad) or an elbow whose zero
 // is the straight limb, where the limit is the straight configuration and past it lies the mirrored
@@ -53,10 +54,10 @@ unsigned OperationalSpaceController::keptTaskRows(size_t task) const {
     if (!((bits >> r) & 1u)) continue;
     if (hierarchy_.rowKept(static_cast<size_t>(rows.level), row++)) kept |= 1u << r;
   }
-  const auto swinging = std::find(swinging_feet_.begin(), swinging_feet_.end(), task);
-  if (swinging != swinging_feet_.end() &&
-      hierarchy_.rowKept(static_cast<size_t>(kSwingingFeetLevel), static_cast<int>(swinging - swinging_feet_.begin()))) {
-    kept |= 1u << kHeadingRow;
+  for (size_t r = 0; r < swinging_rows_.size(); ++r) {
+    if (swinging_rows_[r].task == task && hierarchy_.rowKept(static_cast<size_t>(kSwingingFeetLevel), static_cast<int>(r))) {
+      kept |= 1u << swinging_rows_[r].row;
+    }
   }
   return kept;
 }
@@ -112,7 +113,7 @@ OperationalSpaceController::OperationalSpaceController(const Model& model, std::
     }
   }
   free_.reserve(static_cast<size_t>(nu));
-  swinging_feet_.reserve(tasks_.size());
+  swinging_rows_.reserve(3 * tasks_.size());
   levels_[kSwingingFeetLevel].independence_cutoff = kSwingingFeetCutoff;
   jacobian_.resize(6, nu);
   posture_acceleration_.resize(nu);
@@ -211,25 +212,30 @@ void OperationalSpaceController::setStanceLevel(const Eigen::MatrixXd& jacobian,
 
 void OperationalSpaceController::clearStanceLevel() { stance_level_ = false; }
 
-void OperationalSpaceController::setSwingingFeet(const std::vector<size_t>& tasks) {
-  swinging_feet_.clear();
-  for (const size_t task : tasks) {
-    if (tasks_[task].type != TaskType::kPosition) swinging_feet_.push_back(task);
+void OperationalSpaceController::setSwingingFeet(const std::vector<SwingingFoot>& feet) {
+  swinging_rows_.clear();
+  for (const SwingingFoot& foot : feet) {
+    if (tasks_[foot.task].type == TaskType::kPosition) continue;
+    swinging_rows_.push_back({foot.task, kHeadingRow});
+    if (!foot.landing || tasks_[foot.task].type != TaskType::kPose) continue;
+    swinging_rows_.push_back({foot.task, kPositionXRow});
+    swinging_rows_.push_back({foot.task, kPositionYRow});
   }
 }
 
 void OperationalSpaceController::fillSwingingFeetLevel(int nu) {
-  // Each swinging foot's heading row and its wanted acceleration, as the task loop just wrote them at the
-  // task's own priority.
+  // Each row and its wanted acceleration as the task loop just wrote them at the task's own priority (an
+  // orientation task's rows are its heading's three; a pose task's the angular then the position rows).
   PriorityLevel& level = levels_[kSwingingFeetLevel];
-  const Eigen::Index rows = static_cast<Eigen::Index>(swinging_feet_.size());
+  const Eigen::Index rows = static_cast<Eigen::Index>(swinging_rows_.size());
   level.jacobian.resize(rows, nu);
   level.acceleration.resize(rows);
   for (Eigen::Index r = 0; r < rows; ++r) {
-    const TaskRows& task = rows_[swinging_feet_[static_cast<size_t>(r)]];
+    const SwingingRow& swinging = swinging_rows_[static_cast<size_t>(r)];
+    const TaskRows& task = rows_[swinging.task];
     const PriorityLevel& own = levels_[static_cast<size_t>(task.level)];
-    level.jacobian.row(r) = own.jacobian.row(task.first_row + kHeadingRow);
-    level.acceleration[r] = own.acceleration[task.first_row + kHeadingRow];
+    level.jacobian.row(r) = own.jacobian.row(task.first_row + swinging.row);
+    level.acceleration[r] = own.acceleration[task.first_row + swinging.row];
   }
 }
 

@@ -91,13 +91,23 @@ class OperationalSpaceController {
   void setStanceLevel(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& acceleration);
   void clearStanceLevel();
   // Ground mode: a level between the standing feet's and the centre of mass's, each swinging foot's heading
-  // (its task's rotation about the vertical, what that task's PD asks of it), kept exactly. At priority 1 a
-  // swinging foot's yaw row shares the hierarchy's independence cutoff with the pelvis, hands and head, and
-  // was dropped in 60-65 % of the steps (CMU 02_01, 12_03 onto G1): a leg straightening for its landing
-  // spun its hip yaw unopposed, and the foot landed turned (09_12: 45° off the reference's heading, then the
-  // robot fell over a sole turned across its path; 03_03: 63°). `tasks`: the map tasks of the swinging feet
-  // (pose or orientation tasks; none clears the level). Held until the next call.
-  void setSwingingFeet(const std::vector<size_t>& tasks);
+  // (its task's rotation about the vertical, what that task's PD asks of it), and a landing foot's position
+  // too, kept exactly. At priority 1 a swinging foot's yaw row shares the hierarchy's independence cutoff
+  // with the pelvis, hands and head, and was dropped in 60-65 % of the steps (CMU 02_01, 12_03 onto G1): a
+  // leg straightening for its landing spun its hip yaw unopposed, and the foot landed turned (09_12: 45° off
+  // the reference's heading, then the robot fell over a sole turned across its path; 03_03: 63°). Its
+  // position rows fare no better (kept in 52-62 % of the steps). Kept exactly through the whole swing, they
+  // made the leg's early, fast swing throw yaw moments no sole could take (12_02 fell in its first step in 12
+  // of 16 rounding-level runs); its horizontal rows through its landing only (`landing`, the last 30 % of
+  // the swing: SimulateOptions) do not, and the long walks go further. The height stays with the task: kept
+  // exactly too, the feet came down harder (walks' peak vertical force p90 4.8 -> 5.3 body weights).
+  // `feet`: the swinging feet's map tasks (pose or orientation; an orientation task has no position rows);
+  // none clears the level. Held until the next call.
+  struct SwingingFoot {
+    size_t task;
+    bool landing;
+  };
+  void setSwingingFeet(const std::vector<SwingingFoot>& feet);
 
   // After calcTorques: A and b + g at its state.
   const Eigen::MatrixXd& massMatrix() const { return mass_.mass(); }
@@ -107,8 +117,8 @@ class OperationalSpaceController {
 
   // After calcTorques: which of task `task`'s rows the hierarchy kept, in TaskRowBits's layout. A dropped
   // row is nearly a combination of the rows kept before it (prioritized_control.h). A swinging foot's
-  // heading row counts as kept where the swinging feet's level kept it (its copy at the task's own priority
-  // then has nothing left to do and drops).
+  // rows count as kept where the swinging feet's level kept them (their copies at the task's own priority
+  // then have nothing left to do and drop).
   unsigned keptTaskRows(size_t task) const;
 
   const std::vector<ControlledTask>& tasks() const { return tasks_; }
@@ -129,7 +139,12 @@ class OperationalSpaceController {
   Eigen::VectorXd base_force_;
   bool com_level_ = false;
   bool stance_level_ = false;
-  std::vector<size_t> swinging_feet_;  // tasks whose heading row is in the swinging feet's level, in its row order
+  // The swinging feet's level's rows: per row, its task and that task's row (TaskRowBits's layout).
+  struct SwingingRow {
+    size_t task;
+    int row;
+  };
+  std::vector<SwingingRow> swinging_rows_;
   PrioritizedControl hierarchy_;
   TreeMassFactorization mass_;  // A at the step's configuration, factored once for every A⁻¹ x
   bool free_base_;

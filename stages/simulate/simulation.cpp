@@ -64,6 +64,36 @@ int64_t SourceTouchdowns(const MotionData& input, const std::vector<int>& contac
 // Per frame and map foot (frame-major, as the source's contact flags): NaN where the source does not plant
 // the foot (or has no contact column for it, -1 in `contact_column`), else the heading of the reference's
 // foot link at the frame that began the planted run.
+// Per frame and map foot (`contact_column` as for TouchdownHeadings): how far into its swing the source's
+// foot is, (k − lift-off + 1) / (touchdown − lift-off + 1) at frame k of a swing between a lift-off and a
+// touchdown of the take (so in (0, 1)); -1 where the foot is planted, or its swing began before the take or
+// ends after it.
+std::vector<double> SwingProgress(const MotionData& input, const std::vector<int>& contact_column) {
+  const size_t feet = contact_column.size();
+  std::vector<double> progress(static_cast<size_t>(input.frames()) * feet, -1.0);
+  for (size_t f = 0; f < feet; ++f) {
+    if (contact_column[f] < 0) continue;
+    const auto plants = [&](int64_t t) {
+      return input.contact[static_cast<size_t>(t) * input.contact_feet.size() + static_cast<size_t>(contact_column[f])] != 0;
+    };
+    for (int64_t start = 0; start < input.frames();) {
+      if (plants(start)) {
+        ++start;
+        continue;
+      }
+      int64_t end = start;
+      while (end < input.frames() && !plants(end)) ++end;
+      if (start > 0 && end < input.frames()) {
+        for (int64_t k = start; k < end; ++k) {
+          progress[static_cast<size_t>(k) * feet + f] = static_cast<double>(k - start + 1) / static_cast<double>(end - start + 1);
+        }
+      }
+      start = end;
+    }
+  }
+  return progress;
+}
+
 std::vector<double> TouchdownHeadings(const MotionData& input, const Model& model, const RobotMap& map,
                                       const std::vector<int>& contact_column) {
   const size_t frames = static_cast<size_t>(input.frames()), columns = input.contact_feet.size(), feet = map.feet.size();
@@ -169,6 +199,7 @@ bool SimulateOptions::IsValid(std::string* error) const {
   if (!(support_margin >= 0 && support_margin <= 0.1)) {
     return fail("--support-margin must be in [0, 0.1] m, got " + std::to_string(support_margin));
   }
+  if (!(swing_landing >= 0 && swing_landing <= 1)) return fail("--swing-landing must be in [0, 1], got " + std::to_string(swing_landing));
   if (!(moment_weight > 0 && moment_weight <= 100)) {
     return fail("--moment-weight must be in (0, 100], got " + std::to_string(moment_weight));
   }
@@ -193,7 +224,7 @@ nlohmann::json SimulateOptions::ToJson() const {
           {"no_balance", !balance},
           {"balance_gain", balance_gain}, {"step_adjustment", step_adjustment},
           {"swing_lift", swing_lift}, {"support_margin", support_margin}, {"moment_weight", moment_weight},
-          {"no_swing_heading", !swing_heading}};
+          {"no_swing_heading", !swing_heading}, {"swing_landing", swing_landing}};
 }
 
 std::string SimulateSummary::BriefReport() const {
@@ -404,8 +435,10 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   for (size_t i = 0; i < foot_of_task.size(); ++i) {
     if (foot_of_task[i] >= 0) task_of_foot[static_cast<size_t>(foot_of_task[i])] = static_cast<int>(i);
   }
-  std::vector<size_t> swinging_feet;
+  std::vector<OperationalSpaceController::SwingingFoot> swinging_feet;
   swinging_feet.reserve(map.feet.size());
+  std::vector<double> swing_progress;
+  if (ground) swing_progress = SwingProgress(input, contact_column);
   ControlTraceRow trace_row;
   const auto record_control_step = [&](int64_t frame, double fraction, double dt, const Eigen::VectorXd& velocity,
                                      const Eigen::VectorXd& acceleration, ControlTrace& out) {
@@ -447,10 +480,12 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     }
     if (balance_controller) balance_controller->apply(workspace, frame, fraction, planted.data(), task_references, controller);
     if (stance_feet && options.swing_heading) {
-      // A foot the source lifts and the stance level does not hold.
+      // A foot the source lifts and the stance level does not hold; landing over its swing's last part.
       swinging_feet.clear();
       for (size_t f = 0; f < map.feet.size(); ++f) {
-        if (planted[f] == 0 && !stance_feet->held(f) && task_of_foot[f] >= 0) swinging_feet.push_back(static_cast<size_t>(task_of_foot[f]));
+        if (planted[f] != 0 || stance_feet->held(f) || task_of_foot[f] < 0) continue;
+        const double progress = swing_progress[static_cast<size_t>(frame) * map.feet.size() + f];
+        swinging_feet.push_back({static_cast<size_t>(task_of_foot[f]), progress >= 1.0 - options.swing_landing});
       }
       controller.setSwingingFeet(swinging_feet);
     }

@@ -123,7 +123,7 @@ TEST(SimulateCli, PrintParametersGivesEveryFlag) {
   EXPECT_EQ(result.output,
             "{\"balance_gain\":2.0,\"contact\":\"none\",\"damping\":0.001,\"floating_base\":\"auto\",\"independence_cutoff\":0.7,"
             "\"integrator\":\"euler\",\"kp\":300.0,\"kv\":25.0,\"limit_frequency\":100.0,\"moment_weight\":1.5,\"no_balance\":false,\"no_effort_limits\":true,"
-            "\"no_joint_limits\":false,\"no_swing_heading\":true,\"rate\":1000.0,\"step_adjustment\":0.3,\"support_margin\":0.025,\"swing_lift\":0.04,\"targets\":\"kinematic\"}\n");
+            "\"no_joint_limits\":false,\"no_swing_heading\":true,\"rate\":1000.0,\"step_adjustment\":0.3,\"support_margin\":0.025,\"swing_landing\":0.3,\"swing_lift\":0.04,\"targets\":\"kinematic\"}\n");
 }
 
 }  // namespace

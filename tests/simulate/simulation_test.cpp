@@ -596,15 +596,15 @@ TEST_F(GroundMode, SwingLiftRaisesTheSwingingFoot) {
   EXPECT_LT(lifted - unlifted, 0.06);
 }
 
-// The swinging feet's heading level (OperationalSpaceController::setSwingingFeet): a foot lands at the
-// reference's heading where, left to its task at priority 1 (whose yaw row the hierarchy dropped in about
-// 60 % of the swing's steps), a straightening leg spun it. Measured by the tests' own FK of the records,
-// against the reference foot's heading at each source touchdown (HeldPhaseDrift). Session 47, three walks
-// that stay up either way: the largest landing turn 4.4 / 11.2 / 6.6 deg with the level against 13.1 /
-// 18.8 / 18.4 without (07_01, 02_01, 12_02). Which landing is the worst moves with the arithmetic's rounding
-// (README: the takes that fall): over three draws with the balance gain moved by 1-5 × 10⁻⁹ of itself,
-// 2.1-2.7 / 12.3-20.5 / 9.3-11.1 deg against 7.2-10.4 / 21.0-22.0 / 13.4-14.5, so the test compares the two
-// runs of each walk rather than bounding either.
+// The swinging feet's level (OperationalSpaceController::setSwingingFeet: the heading, and the horizontal
+// position over the swing's last 30 %): a foot lands at the reference's heading where, left to its task at
+// priority 1 (whose yaw row the hierarchy dropped in 60-65 % of the swing's steps), a straightening leg spun
+// it. Measured by the tests' own FK of the records, against the reference foot's heading at each source
+// touchdown (HeldPhaseDrift). Session 47, three walks that stay up either way: the largest landing turn 1.3
+// / 7.7 / 10.0 deg with the level against 13.1 / 18.8 / 18.4 without (07_01, 02_01, 12_02); over three more
+// draws with the balance gain moved by 1-5 × 10⁻⁹ of itself (the arithmetic's rounding moves which landing
+// is the worst: README, the takes that fall), 1.1-2.7 / 5.4-5.8 / 6.8-8.9 against 7.2-10.4 / 21.0-22.0 /
+// 13.4-14.5.
 TEST_F(GroundMode, SwingingFeetLandAtTheReferenceHeading) {
 #ifdef SYN_SANITIZED_BUILD
   GTEST_SKIP() << "a real-data ground-mode simulation runs in the Release test run, not under the sanitizers";
@@ -624,6 +624,7 @@ TEST_F(GroundMode, SwingingFeetLandAtTheReferenceHeading) {
     std::printf("%s: largest landing turn from the reference's heading %.1f deg with the swinging feet's heading level, "
                 "%.1f without\n", name, largest[0], largest[1]);
     EXPECT_LT(largest[0], largest[1]) << name;
+    EXPECT_LE(largest[0], 12.0) << name;
   }
 }
 
@@ -717,8 +718,8 @@ TEST_F(PaperMode, CmuDancesStayInsideTheirJointLimits) {
 // against 15.81 at 1 (SimulateOptions::moment_weight). Since the pelvis's position rows were left to the
 // balance level (ControllerTasks, session 44) it stays up at weight 2 in 12 of those 16 runs, its pelvis
 // down to 74-94 % of the reference's height in them, 72 % in this draw (until then at least 80 %). With
-// the swinging feet's heading level (session 47) it stays up at weight 2 in 8 of 8 runs of the CLI, its
-// pelvis down to 82-98 %, but 64 % in this draw: the bound is issue 18's fall line, 60 %.
+// the swinging feet's level (session 47) it stays up at weight 2 in 7 of 8 runs of the CLI (one fell 0.02 s
+// before the take's end), its pelvis down to 86-93 %, 93 % in this draw.
 TEST_F(GroundMode, TheBriskWalkStaysUpWithItsMomentsFavoured) {
 #ifdef SYN_SANITIZED_BUILD
   GTEST_SKIP() << "a real-data ground-mode simulation runs in the Release test run, not under the sanitizers";
@@ -728,7 +729,7 @@ TEST_F(GroundMode, TheBriskWalkStaysUpWithItsMomentsFavoured) {
   options.moment_weight = 2.0;
   const SimulationResult result = Simulate(walk, "07_12", model, map, options);
   std::printf("07_12 with the moments weighted 2: %s\n", result.summary.FullReport().c_str());
-  EXPECT_GE(result.summary.lowest_pelvis_ratio, 0.6);
+  EXPECT_GE(result.summary.lowest_pelvis_ratio, 0.7);
   EXPECT_LE(result.summary.deepest_penetration_mm, 10.0);
   EXPECT_LE(result.summary.peak_vertical_force_n, kPeakForceInWeights * model.totalMass() * model.gravity());
   EXPECT_LE(WorstLimitExcess(model, result.motion), kStopTolerance) << "a joint past its URDF limit";
@@ -768,11 +769,12 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
       // first recorded frame on the floor, up to 8 ms later). Session 33: the same phase counts, medians
       // within 0.8 deg and 2.1 mm on the 17 walks up. Since a foot at heel-off is held by its toe (session
       // 44) it can turn on its toe for a few ms that the 120 Hz record steps over: turn medians up to 2.6 deg
-      // apart (02_02: 13.0 against 10.4; 08_11: 19.9 against 18.0). Session 47, the swinging feet's heading
-      // level: 02_02 11.4 against 8.3, 3.1 deg apart; the other walks up within 2.6.
+      // apart (02_02: 13.0 against 10.4; 08_11: 19.9 against 18.0).
       EXPECT_EQ(static_cast<size_t>(result.summary.held_phases), recorded.turns_deg.size()) << trial.name;
-      EXPECT_NEAR(result.summary.held_turn_median_deg, recorded_turn, 3.5) << trial.name << ": held feet's turn against FK of the record";
-      EXPECT_NEAR(result.summary.held_move_median_mm, recorded_move, 3.0) << trial.name << ": held feet's move against FK of the record";
+      EXPECT_NEAR(result.summary.held_turn_median_deg, recorded_turn, 3.0) << trial.name << ": held feet's turn against FK of the record";
+      // Session 47, the swinging feet's horizontal rows through their landing: 07_12's held feet slide in their
+      // first ms on the floor, which the record steps over: 16.7 mm against 9.7 (the other walks up within 2.9).
+      EXPECT_NEAR(result.summary.held_move_median_mm, recorded_move, 8.0) << trial.name << ": held feet's move against FK of the record";
       // Where the feet landed turned, against the reference's heading at each source touchdown.
       const double recorded_landing = NearestRankPercentile(recorded.landing_turns_deg, 0.5);
       std::printf("%s: landings turned %.1f deg median (%.1f p95, %.1f at most) from the reference's heading; from the record: %.1f\n",
@@ -850,10 +852,10 @@ TEST_F(GroundMode, SomeCmuWalksStayUp) {
   // this test (03_01 up; 12_03 falls), the CLI's 16 likewise; over the 8 settings 15-17, mean 15.25 -> 15.88.
   // 2026-11-29 (session 44): the pelvis's position rows left to the balance level and feet at heel-off held
   // by their toe: 18 up in this test (03_03, 03_04 and 09_12 fall); 16 rounding-level runs 16.81 on average.
-  // 2026-11-29 (session 47): the swinging feet's heading level (feet land at the reference's heading: the
-  // walks' p95 landing turn 15.2 -> 10.7 deg median over 32 runs) draws 16 here: 07_12 and 08_07 fall in
-  // their last swing as well. The ensembles did not drop: 16 runs 16.81 -> 17.06 (standard error 0.25), 32
-  // runs 16.78 -> 16.84 (0.15, 0.18), the runs 15-18 either way; falls per 100 steps 3.41 -> 3.32.
+  // 2026-11-29 (session 47): the swinging feet's level (the heading through the swing, the horizontal
+  // position over its last 30 %; the walks' p95 landing turn 15.2 -> 7.0 deg median over 32 runs) draws 16
+  // here: 03_01 and 08_07 fall at their take's end as well. The ensembles rose: 16 runs 16.81 -> 17.12
+  // (standard error 0.18), 32 runs 16.78 -> 17.12 (0.15 each); falls per 100 steps 3.41 -> 2.84.
   EXPECT_GE(up, 16);
 }
 
