@@ -33,12 +33,12 @@ std::string ControlTrace::ToCsv() const {
     const int length = std::snprintf(buffer, sizeof(buffer), "%.9g,%lld,%d", row.time, static_cast<long long>(row.frame),
                                      row.balancing ? 1 : 0);
     out.append(buffer, static_cast<size_t>(length));
-    Append(out, row.com.data(), 2);
-    Append(out, row.capture_error.data(), 2);
-    Append(out, row.plan_zmp.data(), 2);
-    Append(out, row.wanted_zmp.data(), 2);
-    Append(out, row.commanded_zmp.data(), 2);
-    Append(out, row.level_force.data(), 3);
+    Append(out, row.level.com.data(), 2);
+    Append(out, row.level.capture_error.data(), 2);
+    Append(out, row.level.plan_zmp.data(), 2);
+    Append(out, row.level.wanted_zmp.data(), 2);
+    Append(out, row.level.commanded_zmp.data(), 2);
+    Append(out, row.level.force.data(), 3);
     Append(out, row.planned_force.data(), 3);
     Append(out, row.applied_force.data(), 3);
     Append(out, row.unexplained.data(), 6);

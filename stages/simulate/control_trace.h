@@ -29,15 +29,16 @@
 
 #include <Eigen/Core>
 
+#include "stages/simulate/balance_controller.h"
+
 namespace syn {
 
 struct ControlTraceRow {
   double time = 0;
   int64_t frame = 0;
   bool balancing = false;
-  Eigen::Vector2d com = Eigen::Vector2d::Zero(), capture_error = Eigen::Vector2d::Zero();
-  Eigen::Vector2d plan_zmp = Eigen::Vector2d::Zero(), wanted_zmp = Eigen::Vector2d::Zero(), commanded_zmp = Eigen::Vector2d::Zero();
-  Eigen::Vector3d level_force = Eigen::Vector3d::Zero(), planned_force = Eigen::Vector3d::Zero();
+  BalanceCommand level;  // the centre of mass, the capture error, the zero-moment points and the level's force
+  Eigen::Vector3d planned_force = Eigen::Vector3d::Zero();
   Eigen::Vector3d applied_force = Eigen::Vector3d::Zero();
   Eigen::Matrix<double, 6, 1> unexplained = Eigen::Matrix<double, 6, 1>::Zero();  // (moment, force)
   double landing_needed = 0;

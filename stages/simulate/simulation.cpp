@@ -61,9 +61,6 @@ int64_t SourceTouchdowns(const MotionData& input, const std::vector<int>& contac
   return touchdowns;
 }
 
-// Per frame and map foot (frame-major, as the source's contact flags): NaN where the source does not plant
-// the foot (or has no contact column for it, -1 in `contact_column`), else the heading of the reference's
-// foot link at the frame that began the planted run.
 // Per frame and map foot (`contact_column` as for TouchdownHeadings): how far into its swing the source's
 // foot is, (k − lift-off + 1) / (touchdown − lift-off + 1) at frame k of a swing between a lift-off and a
 // touchdown of the take (so in (0, 1)); -1 where the foot is planted, or its swing began before the take or
@@ -94,6 +91,9 @@ std::vector<double> SwingProgress(const MotionData& input, const std::vector<int
   return progress;
 }
 
+// Per frame and map foot (frame-major, as the source's contact flags): NaN where the source does not plant
+// the foot (or has no contact column for it, -1 in `contact_column`), else the heading of the reference's
+// foot link at the frame that began the planted run.
 std::vector<double> TouchdownHeadings(const MotionData& input, const Model& model, const RobotMap& map,
                                       const std::vector<int>& contact_column) {
   const size_t frames = static_cast<size_t>(input.frames()), columns = input.contact_feet.size(), feet = map.feet.size();
@@ -443,16 +443,10 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   const auto record_control_step = [&](int64_t frame, double fraction, double dt, const Eigen::VectorXd& velocity,
                                      const Eigen::VectorXd& acceleration, ControlTrace& out) {
     const size_t a = static_cast<size_t>(frame), b = std::min(a + 1, input.time_s.size() - 1);
-    const BalanceCommand& command = balance_controller->command();
     trace_row.time = (1 - fraction) * input.time_s[a] + fraction * input.time_s[b];
     trace_row.frame = frame;
     trace_row.balancing = balance_controller->state().balancing;
-    trace_row.com = command.com;
-    trace_row.capture_error = command.capture_error;
-    trace_row.plan_zmp = command.plan_zmp;
-    trace_row.wanted_zmp = command.wanted_zmp;
-    trace_row.commanded_zmp = command.commanded_zmp;
-    trace_row.level_force = command.force;
+    trace_row.level = balance_controller->command();
     trace_row.planned_force.setZero();
     for (const Eigen::Vector3d& force : distribution->planned().foot_force) trace_row.planned_force += force;
     trace_row.applied_force.setZero();

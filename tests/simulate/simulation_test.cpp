@@ -648,8 +648,8 @@ TEST_F(GroundMode, ControlTraceAccountsForTheBodysMomentum) {
     ASSERT_GT(dt, 0) << "row " << i;
     impulse += dt * (rows[i].applied_force - Eigen::Vector3d(0, 0, weight));
     if (rows[i].balancing) {
-      EXPECT_GE(rows[i].level_force.z(), 0.2 * weight - 1e-9) << "row " << i;
-      EXPECT_LE(rows[i].level_force.z(), 3.0 * weight + 1e-9) << "row " << i;
+      EXPECT_GE(rows[i].level.force.z(), 0.2 * weight - 1e-9) << "row " << i;
+      EXPECT_LE(rows[i].level.force.z(), 3.0 * weight + 1e-9) << "row " << i;
     }
   }
   EXPECT_EQ(rows.back().time, walk.time_s.back());
