@@ -127,6 +127,7 @@ import pathlib, re, statistics, sys
 root, runs, walks, flags = pathlib.Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
 up, falls, steps, counts = {}, {}, {}, []
 walked, fell = 0, 0  # steps taken before the end or the fall, and falls, over every run and walk
+walk_steps, walk_falls = {}, {}  # the same per walk
 for k in range(1, runs + 1):
     lines = [p.read_text().split() for p in sorted((root / str(k) / "simulate").glob("*.result"))]
     counts.append(sum(1 for line in lines if line[1] == "up"))
@@ -139,6 +140,8 @@ for k in range(1, runs + 1):
         if take:
             walked += int(taken.group(1)) if taken else int(take.group(1))
             fell += 1 if taken else 0
+            walk_steps[line[0]] = walk_steps.get(line[0], 0) + (int(taken.group(1)) if taken else int(take.group(1)))
+            walk_falls[line[0]] = walk_falls.get(line[0], 0) + (1 if taken else 0)
         up.setdefault(line[0], 0)
         if line[1] == "up":
             up[line[0]] += 1
@@ -156,6 +159,10 @@ for name in sorted(up):
         if name in steps:  # how far into the take: the long takes fall, the short ones mostly do not
             first, last = min(s for s, _ in steps[name]), max(s for s, _ in steps[name])
             where += f", after {first}" + (f"-{last}" if last != first else "") + f" of {steps[name][0][1]} steps"
+        # Per step, the walk's own hazard: a take of n steps stays up with about (1 - h)^n, so a long take
+        # falls every run at the hazard a short one mostly survives.
+        if walk_steps.get(name):
+            where += f"; {100 * walk_falls[name] / walk_steps[name]:.1f} falls per 100 steps"
         where = f" ({where})"
     print(f"{name} up in {up[name]} of {runs} runs{where}")
 mean = sum(counts) / runs
