@@ -79,7 +79,8 @@ tail -n 1 $work/report2.txt | grep -q "^ground mode (--balance-gain 4): [0-2] of
   fail "the count line does not name the flags: $(tail -n 1 $work/report2.txt)"
 
 # RUNS=2: two sweeps with the gain, then kv, moved by 10⁻⁹ of the value the flags give (the user's --kv 30
-# replaced, --swing-lift kept); each walk's tally and fall times, and the mean, agree with the runs' logs.
+# replaced, --swing-lift kept); each walk's tally, fall times and falls per 100 steps, and the mean, agree
+# with the runs' logs.
 CMU_BVH=$work/datasets/cmu_bvh JOBS=2 RUNS=2 tools/dev/ground_sweep.sh $build_dir/bin $out --kv 30 --swing-lift 0.05 \
   > $work/report3.txt 2>&1 || fail "the ensemble failed: $(cat $work/report3.txt)"
 cat $work/report3.txt
@@ -91,6 +92,7 @@ counts = {1: 0, 2: 0}
 walked, falls = 0, 0
 for trial in ("02_01", "09_12"):
     up, times, taken = 0, [], []
+    trial_walked, trial_falls = 0, 0
     for k in (1, 2):
         log = (runs / str(k) / "simulate" / f"{trial}.log").read_text()
         p = json.loads(re.search(r"^syn-simulate: parameters (\{.*\})$", log, re.M).group(1))
@@ -103,6 +105,8 @@ for trial in ("02_01", "09_12"):
         after = re.search(r"after (\d+) of the take's", log)
         walked += int(after.group(1)) if fell else int(take.group(1))
         falls += 1 if fell else 0
+        trial_walked += int(after.group(1)) if fell else int(take.group(1))
+        trial_falls += 1 if fell else 0
         if fell:
             times.append(float(fell.group(1)))
             steps = re.search(r"fell at t = [0-9.]+ s, after (\d+) of the take's (\d+) steps", log)
@@ -112,13 +116,14 @@ for trial in ("02_01", "09_12"):
             up += 1
             counts[k] += 1
     line = re.search(rf"^{trial} up in (\d+) of 2 runs(?: \(fell at ([0-9.]+)(?:-([0-9.]+))? s, "
-                     rf"after (\d+)(?:-(\d+))? of (\d+) steps\))?$", report, re.M)
+                     rf"after (\d+)(?:-(\d+))? of (\d+) steps; ([0-9.]+) falls per 100 steps\))?$", report, re.M)
     assert line, f"no line for {trial}"
     assert int(line.group(1)) == up, (trial, line.group(0), up)
     if times:
         assert float(line.group(2)) == min(times) and float(line.group(3) or line.group(2)) == max(times), (line.group(0), times)
         assert int(line.group(4)) == min(s for s, _ in taken) and int(line.group(5) or line.group(4)) == max(s for s, _ in taken), (line.group(0), taken)
         assert int(line.group(6)) == taken[0][1] and all(total == taken[0][1] for _, total in taken), (line.group(0), taken)
+        assert line.group(7) == f"{100 * trial_falls / trial_walked:.1f}", (line.group(0), trial_falls, trial_walked)
     else:
         assert line.group(2) is None, line.group(0)
 for k in (1, 2):

@@ -14,8 +14,9 @@
 # RUNS=N (N > 1): which walks stay up moves with the arithmetic's rounding (README: "the takes that fall"),
 # so one sweep is one draw. This runs N sweeps instead, run k with the balance gain (odd k) or kv (even k)
 # moved by ±⌈k/2⌉ × 10⁻⁹ of its value (+ for odd ⌈k/2⌉), the other flags as given, each in
-# OUT_DIR/runs/K/, and prints per walk in how many runs it stayed up (and where it fell), each run's
-# count, and their mean with its standard error: what the issue notes call an ensemble.
+# OUT_DIR/runs/K/, and prints per walk in how many runs it stayed up (and where it fell, and its own falls
+# per 100 steps taken), each run's count, and their mean with its standard error: what the issue notes call
+# an ensemble.
 set -euo pipefail
 
 if [ $# -lt 2 ]; then
