@@ -53,9 +53,10 @@ struct ContactConsistentOptions {
   // (P H⁻¹ Pᵀ)⁻¹, which makes steps 1 and 2 one least-squares problem and weighs the moments 10-60 times
   // the force: 14.88 (mixed half and half with these weights: 15.25); the base's rows added to H, so
   // that the base turns or translates off the plan less: 15.25-15.88 (its yaw alone at 10 / 100: 16.38 /
-  // 16.12, the brisk walk 07_12 down in all 8: its pelvis turning ±25° is where its legs' yaw goes); the yaw moment alone at 3 / 0.3:
-  // 15.50 / 15.38; the planned μ 0.6 / 0.5 under the floor's 0.8: 16.38 / 15.62; forces planned 1 / 2 cm
-  // inside the soles' corners (a margin for the centre of pressure): 17.12 / 16.38.
+  // 16.12, the brisk walk 07_12 down in all 8: its pelvis turning ±25° is where its legs' yaw goes); the
+  // yaw moment alone at 3 / 0.3: 15.50 / 15.38; the planned μ 0.6 / 0.5 under the floor's 0.8: 16.38 /
+  // 15.62; forces planned 1 / 2 cm inside the soles' corners (a margin for the centre of pressure): 17.12 /
+  // 16.38.
   double moment_weight = 1.0;
 };
 

@@ -45,18 +45,19 @@ double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return 2.0 * std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized()))));
 }
 
+// Whether the source plants, at frame t, the foot whose contact column is `column` (≥ 0).
+bool SourcePlants(const MotionData& input, int column, int64_t t) {
+  return input.contact[static_cast<size_t>(t) * input.contact_feet.size() + static_cast<size_t>(column)] != 0;
+}
+
 // The source's steps in frames [1, end): its touchdowns, a map foot planted again after a frame it was not
 // (`contact_column` as for TouchdownHeadings). How far into a take a fall came: the CMU walks that fall in
 // every run are the three long takes (29, 52 and 55 steps; the other 18 have 3-9).
 int64_t SourceTouchdowns(const MotionData& input, const std::vector<int>& contact_column, int64_t end) {
-  const size_t columns = input.contact_feet.size();
   int64_t touchdowns = 0;
   for (const int column : contact_column) {
     if (column < 0) continue;
-    for (int64_t t = 1; t < end; ++t) {
-      const size_t now = static_cast<size_t>(t) * columns + static_cast<size_t>(column);
-      touchdowns += input.contact[now] != 0 && input.contact[now - columns] == 0 ? 1 : 0;
-    }
+    for (int64_t t = 1; t < end; ++t) touchdowns += SourcePlants(input, column, t) && !SourcePlants(input, column, t - 1) ? 1 : 0;
   }
   return touchdowns;
 }
@@ -70,9 +71,7 @@ std::vector<double> SwingProgress(const MotionData& input, const std::vector<int
   std::vector<double> progress(static_cast<size_t>(input.frames()) * feet, -1.0);
   for (size_t f = 0; f < feet; ++f) {
     if (contact_column[f] < 0) continue;
-    const auto plants = [&](int64_t t) {
-      return input.contact[static_cast<size_t>(t) * input.contact_feet.size() + static_cast<size_t>(contact_column[f])] != 0;
-    };
+    const auto plants = [&](int64_t t) { return SourcePlants(input, contact_column[f], t); };
     for (int64_t start = 0; start < input.frames();) {
       if (plants(start)) {
         ++start;
@@ -96,7 +95,7 @@ std::vector<double> SwingProgress(const MotionData& input, const std::vector<int
 // foot link at the frame that began the planted run.
 std::vector<double> TouchdownHeadings(const MotionData& input, const Model& model, const RobotMap& map,
                                       const std::vector<int>& contact_column) {
-  const size_t frames = static_cast<size_t>(input.frames()), columns = input.contact_feet.size(), feet = map.feet.size();
+  const size_t frames = static_cast<size_t>(input.frames()), feet = map.feet.size();
   std::vector<double> heading(frames * feet, std::numeric_limits<double>::quiet_NaN());
   Workspace workspace(model);
   const int nq = model.nq();
@@ -104,7 +103,7 @@ std::vector<double> TouchdownHeadings(const MotionData& input, const Model& mode
     const int column = contact_column[f];
     if (column < 0) continue;
     const int link = model.findLinkIndex(map.feet[f].link);
-    const auto planted = [&](size_t t) { return input.contact[t * columns + static_cast<size_t>(column)] != 0; };
+    const auto planted = [&](size_t t) { return SourcePlants(input, column, static_cast<int64_t>(t)); };
     double phase_heading = std::numeric_limits<double>::quiet_NaN();
     for (size_t t = 0; t < frames; ++t) {
       if (!planted(t)) continue;
@@ -462,7 +461,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
     references.sample(frame, fraction, task_references, posture);
     for (size_t f = 0; f < planted.size(); ++f) {
       const int c = contact_column[f];
-      planted[f] = c < 0 ? 0 : input.contact[static_cast<size_t>(frame) * input.contact_feet.size() + static_cast<size_t>(c)];
+      planted[f] = c >= 0 && SourcePlants(input, c, frame) ? 1 : 0;
     }
     if (stance_feet) {
       const size_t cell = static_cast<size_t>(frame) * map.feet.size();

@@ -78,8 +78,8 @@ struct SimulateOptions {
   // left to the task, 0.3: 17.19, 2.88, and touchdowns as soft as without (walks' peak vertical force p90
   // 4.8 body weights against 5.3 with the height). Session 48: a landing foot counted as planted as soon as
   // two of its sole points touch (the source plants feet up to 0.17 s after the reference's heel is down,
-  // and a foot turned 22° on the floor in between, CMU 03_04): 17.38 over 32 runs, but 16.72 over 32 others
-  // where the defaults also gave 16.72.
+  // and a foot turned 22° on the floor in between, CMU 03_04): 17.38 over 32 runs, but 16.72 and 16.88 over
+  // two other 32-run ensembles where the defaults gave 16.72 and 16.91.
   double swing_landing = 0.3;
 
   bool IsValid(std::string* error) const;

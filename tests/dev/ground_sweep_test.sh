@@ -103,8 +103,6 @@ for trial in ("02_01", "09_12"):
         take = re.search(r"the take's (\d+) steps", log)
         assert take, f"{trial}'s log does not give the take's steps"
         after = re.search(r"after (\d+) of the take's", log)
-        walked += int(after.group(1)) if fell else int(take.group(1))
-        falls += 1 if fell else 0
         trial_walked += int(after.group(1)) if fell else int(take.group(1))
         trial_falls += 1 if fell else 0
         if fell:
@@ -126,6 +124,7 @@ for trial in ("02_01", "09_12"):
         assert line.group(7) == f"{100 * trial_falls / trial_walked:.1f}", (line.group(0), trial_falls, trial_walked)
     else:
         assert line.group(2) is None, line.group(0)
+    walked, falls = walked + trial_walked, falls + trial_falls
 for k in (1, 2):
     assert re.search(rf"^run {k} \(.*\): {counts[k]} of 2 up$", report, re.M), (k, counts[k])
 mean = (counts[1] + counts[2]) / 2

@@ -127,8 +127,7 @@ python3 - "$out/runs" "$runs" "$walk_count" "${other[*]}" <<'REPORT'
 import pathlib, re, statistics, sys
 root, runs, walks, flags = pathlib.Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
 up, falls, steps, counts = {}, {}, {}, []
-walked, fell = 0, 0  # steps taken before the end or the fall, and falls, over every run and walk
-walk_steps, walk_falls = {}, {}  # the same per walk
+walk_steps, walk_falls = {}, {}  # per walk over every run: steps taken before the end or the fall, and falls
 for k in range(1, runs + 1):
     lines = [p.read_text().split() for p in sorted((root / str(k) / "simulate").glob("*.result"))]
     counts.append(sum(1 for line in lines if line[1] == "up"))
@@ -139,9 +138,7 @@ for k in range(1, runs + 1):
         take = re.search(r"the take's (\d+) steps", log)
         taken = re.search(r"after (\d+) of the take's (\d+) steps", log)
         if take:
-            walked += int(taken.group(1)) if taken else int(take.group(1))
-            fell += 1 if taken else 0
-            walk_steps[line[0]] = walk_steps.get(line[0], 0) + (int(taken.group(1)) if taken else int(take.group(1)))
+            walk_steps[line[0]] = walk_steps.get(line[0], 0) + int((taken or take).group(1))
             walk_falls[line[0]] = walk_falls.get(line[0], 0) + (1 if taken else 0)
         up.setdefault(line[0], 0)
         if line[1] == "up":
@@ -172,6 +169,7 @@ mean = sum(counts) / runs
 # is better only by well over two of these of each.
 error = statistics.stdev(counts) / runs ** 0.5
 label = f" ({flags})" if flags else ""
+walked, fell = sum(walk_steps.values()), sum(walk_falls.values())
 if walked:  # the long takes fall and the short ones rarely: per step is the finer measure
     print(f"falls per 100 steps taken: {100 * fell / walked:.2f} ({fell} falls in {walked} steps)")
 print(f"ground mode{label}, {runs} rounding-level runs: {mean:.2f} of {walks} CMU walks stay up on average "
