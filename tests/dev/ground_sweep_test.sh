@@ -79,8 +79,8 @@ tail -n 1 $work/report2.txt | grep -q "^ground mode (--balance-gain 4): [0-2] of
   fail "the count line does not name the flags: $(tail -n 1 $work/report2.txt)"
 
 # RUNS=2: two sweeps with the gain, then kv, moved by 10⁻⁹ of the value the flags give (the user's --kv 30
-# replaced, --swing-lift kept); each walk's tally, fall times and falls per 100 steps, and the mean, agree
-# with the runs' logs.
+# replaced, --swing-lift kept); each walk's tally, fall times, falls per 100 steps and where its falls
+# began, and the mean, agree with the runs' logs.
 CMU_BVH=$work/datasets/cmu_bvh JOBS=2 RUNS=2 tools/dev/ground_sweep.sh $build_dir/bin $out --kv 30 --swing-lift 0.05 \
   > $work/report3.txt 2>&1 || fail "the ensemble failed: $(cat $work/report3.txt)"
 cat $work/report3.txt
@@ -91,7 +91,7 @@ expected = {1: (3.5 * (1 + 1e-9), 30.0), 2: (3.5, 30.0 * (1 + 1e-9))}
 counts = {1: 0, 2: 0}
 walked, falls = 0, 0
 for trial in ("02_01", "09_12"):
-    up, times, taken = 0, [], []
+    up, times, taken, onsets = 0, [], [], []
     trial_walked, trial_falls = 0, 0
     for k in (1, 2):
         log = (runs / str(k) / "simulate" / f"{trial}.log").read_text()
@@ -110,11 +110,17 @@ for trial in ("02_01", "09_12"):
             steps = re.search(r"fell at t = [0-9.]+ s, after (\d+) of the take's (\d+) steps", log)
             assert steps, f"{trial}'s fall does not say after how many steps"
             taken.append((int(steps.group(1)), int(steps.group(2))))
+            onset = re.search(r"left the balance plan at t = ([0-9.]+) s", log)
+            turn = re.search(r"and ([0-9]+) deg in the [0-9.]+ s before it", log)
+            if onset:
+                onsets.append((float(onset.group(1)), int(turn.group(1)) if turn else None))
         else:
             up += 1
             counts[k] += 1
     line = re.search(rf"^{trial} up in (\d+) of 2 runs(?: \(fell at ([0-9.]+)(?:-([0-9.]+))? s, "
-                     rf"after (\d+)(?:-(\d+))? of (\d+) steps; ([0-9.]+) falls per 100 steps\))?$", report, re.M)
+                     rf"after (\d+)(?:-(\d+))? of (\d+) steps; ([0-9.]+) falls per 100 steps"
+                     rf"(?:; (\d+) of (\d+) left the balance plan (?:at ([0-9.]+)|within ([0-9.]+)-([0-9.]+)) s"
+                     rf"(?:, the reference turning (\d+) deg(?: \(median\))? in the lead-up)?)?\))?$", report, re.M)
     assert line, f"no line for {trial}"
     assert int(line.group(1)) == up, (trial, line.group(0), up)
     if times:
@@ -122,6 +128,20 @@ for trial in ("02_01", "09_12"):
         assert int(line.group(4)) == min(s for s, _ in taken) and int(line.group(5) or line.group(4)) == max(s for s, _ in taken), (line.group(0), taken)
         assert int(line.group(6)) == taken[0][1] and all(total == taken[0][1] for _, total in taken), (line.group(0), taken)
         assert line.group(7) == f"{100 * trial_falls / trial_walked:.1f}", (line.group(0), trial_falls, trial_walked)
+        # The window of the falls' onsets: the one second, from an onset on, that holds the most of them.
+        if onsets:
+            assert int(line.group(9)) == len(onsets), (line.group(0), onsets)
+            windows = [[o for o in onsets if start <= o[0] < start + 1] for start, _ in sorted(onsets)]
+            inside = max(windows, key=len)
+            assert int(line.group(8)) == len(inside), (line.group(0), onsets)
+            first, last = min(t for t, _ in inside), max(t for t, _ in inside)
+            shown = (float(line.group(10)),) * 2 if line.group(10) else (float(line.group(11)), float(line.group(12)))
+            assert shown == (first, last), (line.group(0), onsets)
+            turns = sorted(turn for _, turn in inside if turn is not None)
+            if turns:
+                assert int(line.group(13)) == turns[(len(turns) - 1) // 2], (line.group(0), onsets)
+        else:
+            assert line.group(8) is None, (line.group(0), "no onset in the logs")
     else:
         assert line.group(2) is None, line.group(0)
     walked, falls = walked + trial_walked, falls + trial_falls

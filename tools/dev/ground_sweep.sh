@@ -14,8 +14,9 @@
 # RUNS=N (N > 1): which walks stay up moves with the arithmetic's rounding (README: "the takes that fall"),
 # so one sweep is one draw. This runs N sweeps instead, run k with the balance gain (odd k) or kv (even k)
 # moved by ±⌈k/2⌉ × 10⁻⁹ of its value (+ for odd ⌈k/2⌉), the other flags as given, each in
-# OUT_DIR/runs/K/, and prints per walk in how many runs it stayed up (and where it fell, and its own falls
-# per 100 steps taken), each run's count, and their mean with its standard error: what the issue notes call
+# OUT_DIR/runs/K/, and prints per walk in how many runs it stayed up (and where it fell, its own falls
+# per 100 steps taken, and the one-second window in which most of its falls began: how many left the
+# balance plan there, and how far the reference turned in the second before), each run's count, and their mean with its standard error: what the issue notes call
 # an ensemble.
 set -euo pipefail
 
@@ -127,6 +128,9 @@ python3 - "$out/runs" "$runs" "$walk_count" "${other[*]}" <<'REPORT'
 import pathlib, re, statistics, sys
 root, runs, walks, flags = pathlib.Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
 up, falls, steps, counts = {}, {}, {}, []
+# Per walk, per fall: when the capture point left the balance plan, and how far the reference turned in the
+# lead-up before (the stage's fall message; None where it gives no lead-up).
+onsets = {}
 walk_steps, walk_falls = {}, {}  # per walk over every run: steps taken before the end or the fall, and falls
 for k in range(1, runs + 1):
     lines = [p.read_text().split() for p in sorted((root / str(k) / "simulate").glob("*.result"))]
@@ -148,6 +152,10 @@ for k in range(1, runs + 1):
             falls.setdefault(line[0], []).append(float(time.group(1)) if time else None)
             if taken:
                 steps.setdefault(line[0], []).append((int(taken.group(1)), int(taken.group(2))))
+            onset = re.search(r"left the balance plan at t = ([0-9.]+) s", log)
+            turn = re.search(r"and ([0-9]+) deg in the [0-9.]+ s before it", log)
+            if onset:
+                onsets.setdefault(line[0], []).append((float(onset.group(1)), int(turn.group(1)) if turn else None))
 for name in sorted(up):
     times = [t for t in falls.get(name, []) if t is not None]
     where = ""
@@ -161,6 +169,20 @@ for name in sorted(up):
         # falls every run at the hazard a short one mostly survives.
         if walk_steps.get(name):
             where += f"; {100 * walk_falls[name] / walk_steps[name]:.1f} falls per 100 steps"
+        # Where in the take the falls begin: the second holding the most onsets (the capture point leaving
+        # the plan). A take's falls cluster at one event (CMU 09_12: 15 of 16 within 4.67-4.68 s, a turn on
+        # the spot), which per-step hazard hides.
+        if onsets.get(name):
+            times = sorted(t for t, _ in onsets[name])
+            best = max(range(len(times)), key=lambda i: (sum(1 for t in times if times[i] <= t < times[i] + 1), -i))
+            inside = [(t, turn) for t, turn in onsets[name] if times[best] <= t < times[best] + 1]
+            first, last = min(t for t, _ in inside), max(t for t, _ in inside)
+            span = f"at {first:g} s" if first == last else f"within {first:g}-{last:g} s"
+            where += f"; {len(inside)} of {len(onsets[name])} left the balance plan {span}"
+            turns = [turn for _, turn in inside if turn is not None]
+            if turns:
+                median = " (median)" if len(turns) > 1 else ""
+                where += f", the reference turning {statistics.median_low(turns)} deg{median} in the lead-up"
         where = f" ({where})"
     print(f"{name} up in {up[name]} of {runs} runs{where}")
 mean = sum(counts) / runs
