@@ -102,8 +102,12 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
   }
   state_ = BalanceSample{};
   command_ = BalanceCommand{};
+  const double now = (1 - s) * plan_.time[a] + s * plan_.time[b];
   if (support_.empty() || base_link_ < 0 || translation_velocities_.empty()) {
     controller.clearCentreOfMassLevel();
+    // In a flight the task targets stay where the stepping put them: without its landing shifts, swing lift
+    // and the plan's offset they jumped back by up to the offset (tens of cm) for the flight's few ms.
+    if (options_.max_step_shift > 0 && base_link_ >= 0) placeReferences(now, a, planted, references);
     reportLanding(fraction);
     return;
   }
@@ -141,7 +145,8 @@ void BalanceController::apply(Workspace& workspace, int64_t frame, double fracti
   }
   controller.setCentreOfMassLevel(translation_velocities_, base_force_);
   if (options_.max_step_shift > 0) {
-    step((1 - s) * plan_.time[a] + s * plan_.time[b], a, planted, capture_error, zmp_plan, omega, references);
+    step(now, a, planted, capture_error, zmp_plan, omega);
+    placeReferences(now, a, planted, references);
   }
 
   reportLanding(fraction);
@@ -181,7 +186,7 @@ Eigen::Vector2d BalanceController::PredictedCaptureError(const Eigen::Vector2d& 
 }
 
 void BalanceController::step(double now, size_t frame, const int64_t* planted, const Eigen::Vector2d& capture_error,
-                             const Eigen::Vector2d& zmp_plan, double omega, std::vector<TaskReference>& references) {
+                             const Eigen::Vector2d& zmp_plan, double omega) {
   for (size_t f = 0; f < foot_links_.size(); ++f) {
     if (foot_tasks_[f] < 0) continue;
     if (planted[f] != 0) {
@@ -205,10 +210,20 @@ void BalanceController::step(double now, size_t frame, const int64_t* planted, c
     state_.landing_needed = std::max(state_.landing_needed, shift.norm());
     if (shift.norm() > options_.max_step_shift) shift *= options_.max_step_shift / shift.norm();
     landing_shift_[f] = shift;
+  }
+}
+
+void BalanceController::placeReferences(double now, size_t frame, const int64_t* planted, std::vector<TaskReference>& references) {
+  for (size_t f = 0; f < foot_links_.size(); ++f) {
+    if (foot_tasks_[f] < 0 || planted[f] != 0 || was_planted_[f]) continue;
+    const int64_t touchdown = plan_.next_touchdown[f][frame];
+    if (touchdown < 0) continue;
+    const double landing = plan_.time[static_cast<size_t>(touchdown)];
+    if (landing - now <= 0) continue;
     const double duration = std::max(landing - swing_start_[f], 1e-6);
     const double progress = std::clamp((now - swing_start_[f]) / duration, 0.0, 1.0);
     TaskReference& foot = references[static_cast<size_t>(foot_tasks_[f])];
-    foot.position.head<2>() += progress * progress * (3 - 2 * progress) * shift;
+    foot.position.head<2>() += progress * progress * (3 - 2 * progress) * landing_shift_[f];
     // The lift's rate and acceleration go into the feedforward with it (the landing shift's do not: it is
     // re-predicted every step, and its feedforward made no walk stay up longer).
     const double phase = M_PI * progress;

@@ -25,7 +25,9 @@
 // offset of the base from it. The controller solves only that task's orientation rows in ground mode
 // (ControllerTasks, simulation.h: the level moves the base); the target is what the pelvis's position
 // error is measured against.
-// Where no sole touches (a jump, a fall), the level is cleared and the body moves ballistically.
+// Where no sole touches (a jump, a fall, a brisk walk's flight), the level is cleared and the body moves
+// ballistically; the task targets stay where the stepping put them (its landing shifts, the swing's lift and
+// the plan's offset, as last planned).
 //
 // Stepping (Pratt's capture point; Englsberger's DCM step adjustment): through a single support the sole
 // is all the zero-moment point has, and G1's is 5 cm wide. A capture-point error of 2 cm at the start of
@@ -127,8 +129,13 @@ class BalanceController {
   std::vector<Eigen::Vector2d> foot_position_, landing_aim_;
   std::vector<bool> aimed_;
   Eigen::Vector2d plan_offset_ = Eigen::Vector2d::Zero();
+  // Stepping's plan at a call with a sole on the floor: each swinging foot's landing shift, and the plan's
+  // offset walked on when a foot lands.
   void step(double now, size_t frame, const int64_t* planted, const Eigen::Vector2d& capture_error,
-            const Eigen::Vector2d& zmp_plan, double omega, std::vector<TaskReference>& references);
+            const Eigen::Vector2d& zmp_plan, double omega);
+  // The task references where that plan puts them: the swinging feet shifted (faded in over the swing) and
+  // lifted, every task moved by the plan's offset. Also in a flight, with the shifts last planned.
+  void placeReferences(double now, size_t frame, const int64_t* planted, std::vector<TaskReference>& references);
   // The capture point's error from the plan `remaining` seconds ahead, under the feedback above with the
   // zero-moment point clamped into the present support (hull_).
   Eigen::Vector2d PredictedCaptureError(const Eigen::Vector2d& capture_error, const Eigen::Vector2d& zmp_plan, double omega,
