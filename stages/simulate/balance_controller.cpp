@@ -201,11 +201,9 @@ void BalanceController::step(double now, size_t frame, const int64_t* planted, c
     }
     if (was_planted_[f]) swing_start_[f] = now;
     was_planted_[f] = false;
-    const int64_t touchdown = plan_.next_touchdown[f][frame];
-    if (touchdown < 0) continue;
-    const double landing = plan_.time[static_cast<size_t>(touchdown)], left = landing - now;
-    if (left <= 0) continue;
-    Eigen::Vector2d shift = PredictedCaptureError(capture_error, zmp_plan, omega, left);
+    const double landing = SwingLanding(f, frame, now);
+    if (landing < 0) continue;
+    Eigen::Vector2d shift = PredictedCaptureError(capture_error, zmp_plan, omega, landing - now);
     state_.stepping = true;
     state_.landing_needed = std::max(state_.landing_needed, shift.norm());
     if (shift.norm() > options_.max_step_shift) shift *= options_.max_step_shift / shift.norm();
@@ -213,13 +211,18 @@ void BalanceController::step(double now, size_t frame, const int64_t* planted, c
   }
 }
 
+double BalanceController::SwingLanding(size_t foot, size_t frame, double now) const {
+  const int64_t touchdown = plan_.next_touchdown[foot][frame];
+  if (touchdown < 0) return -1;
+  const double landing = plan_.time[static_cast<size_t>(touchdown)];
+  return landing > now ? landing : -1;
+}
+
 void BalanceController::placeReferences(double now, size_t frame, const int64_t* planted, std::vector<TaskReference>& references) {
   for (size_t f = 0; f < foot_links_.size(); ++f) {
     if (foot_tasks_[f] < 0 || planted[f] != 0 || was_planted_[f]) continue;
-    const int64_t touchdown = plan_.next_touchdown[f][frame];
-    if (touchdown < 0) continue;
-    const double landing = plan_.time[static_cast<size_t>(touchdown)];
-    if (landing - now <= 0) continue;
+    const double landing = SwingLanding(f, frame, now);
+    if (landing < 0) continue;
     const double duration = std::max(landing - swing_start_[f], 1e-6);
     const double progress = std::clamp((now - swing_start_[f]) / duration, 0.0, 1.0);
     TaskReference& foot = references[static_cast<size_t>(foot_tasks_[f])];

@@ -136,6 +136,9 @@ class BalanceController {
   // The task references where that plan puts them: the swinging feet shifted (faded in over the swing) and
   // lifted, every task moved by the plan's offset. Also in a flight, with the shifts last planned.
   void placeReferences(double now, size_t frame, const int64_t* planted, std::vector<TaskReference>& references);
+  // When the source next plants `foot` after `frame` (s), if that is after `now`; -1 otherwise (no touchdown
+  // left in the take, or it is due): the swing the stepping aims and the lift spans.
+  double SwingLanding(size_t foot, size_t frame, double now) const;
   // The capture point's error from the plan `remaining` seconds ahead, under the feedback above with the
   // zero-moment point clamped into the present support (hull_).
   Eigen::Vector2d PredictedCaptureError(const Eigen::Vector2d& capture_error, const Eigen::Vector2d& zmp_plan, double omega,

@@ -16,8 +16,8 @@
 # moved by ±⌈k/2⌉ × 10⁻⁹ of its value (+ for odd ⌈k/2⌉), the other flags as given, each in
 # OUT_DIR/runs/K/, and prints per walk in how many runs it stayed up (and where it fell, its own falls
 # per 100 steps taken, and the one-second window in which most of its falls began: how many left the
-# balance plan there, and how far the reference turned in the second before), each run's count, and their mean with its standard error: what the issue notes call
-# an ensemble.
+# balance plan there, and how far the reference turned in the second before), each run's count, and their
+# mean with its standard error: what the issue notes call an ensemble.
 set -euo pipefail
 
 if [ $# -lt 2 ]; then
@@ -173,11 +173,12 @@ for name in sorted(up):
         # the plan). A take's falls cluster at one event (CMU 09_12: 15 of 16 within 4.67-4.68 s, a turn on
         # the spot), which per-step hazard hides.
         if onsets.get(name):
-            times = sorted(t for t, _ in onsets[name])
-            best = max(range(len(times)), key=lambda i: (sum(1 for t in times if times[i] <= t < times[i] + 1), -i))
-            inside = [(t, turn) for t, turn in onsets[name] if times[best] <= t < times[best] + 1]
-            first, last = min(t for t, _ in inside), max(t for t, _ in inside)
-            span = f"at {first:g} s" if first == last else f"within {first:g}-{last:g} s"
+            starts = sorted(t for t, _ in onsets[name])
+            count = lambda start: sum(1 for t in starts if start <= t < start + 1)
+            window = max(starts, key=count)  # the earliest start of the fullest window
+            inside = [(t, turn) for t, turn in onsets[name] if window <= t < window + 1]
+            earliest, latest = min(t for t, _ in inside), max(t for t, _ in inside)
+            span = f"at {earliest:g} s" if earliest == latest else f"within {earliest:g}-{latest:g} s"
             where += f"; {len(inside)} of {len(onsets[name])} left the balance plan {span}"
             turns = [turn for _, turn in inside if turn is not None]
             if turns:
