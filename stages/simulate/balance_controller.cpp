@@ -229,10 +229,13 @@ void BalanceController::placeReferences(double now, size_t frame, const int64_t*
     foot.position.head<2>() += progress * progress * (3 - 2 * progress) * landing_shift_[f];
     // The lift's rate and acceleration go into the feedforward with it (the landing shift's do not: it is
     // re-predicted every step, and its feedforward made no walk stay up longer).
-    const double phase = M_PI * progress;
-    foot.position.z() += options_.swing_lift * std::sin(phase);
-    foot.velocity[5] += options_.swing_lift * M_PI / duration * std::cos(phase);
-    foot.acceleration[5] -= options_.swing_lift * (M_PI / duration) * (M_PI / duration) * std::sin(phase);
+    const double start = plan_.airborne_start[f][frame], end = plan_.airborne_end[f][frame];
+    if (start >= 0 && end > start) {
+      const double span = end - start, phase = M_PI * std::clamp((now - start) / span, 0.0, 1.0);
+      foot.position.z() += options_.swing_lift * std::sin(phase);
+      foot.velocity[5] += options_.swing_lift * M_PI / span * std::cos(phase);
+      foot.acceleration[5] -= options_.swing_lift * (M_PI / span) * (M_PI / span) * std::sin(phase);
+    }
     landing_aim_[f] = foot.position.head<2>() + plan_offset_;
     aimed_[f] = true;
   }

@@ -24,6 +24,8 @@ constexpr double kSupportSpeed = 0.5;
 // The vertical ground force the pendulum assumes is at least this share of the weight: a reference whose
 // feet carry almost nothing (a jump's flight) would otherwise make it infinitely slow.
 constexpr double kMinVerticalShare = 0.3;
+// s: a foot's support or airborne stretch shorter than this is taken as its neighbours' (airborne_start).
+constexpr double kShortestRun = 0.1;
 // The least-squares plan's weight on the shift itself (per m², against zmp errors per m²).
 constexpr double kShiftWeight = 1e-6;
 
@@ -240,6 +242,7 @@ BalanceShift PlanBalanceShift(const MotionData& motion, const Model& model, cons
   std::vector<std::vector<Eigen::Vector2d>>& hulls = shift.support;
   hulls.resize(n);
   std::vector<Eigen::Vector2d> support;
+  std::vector<std::vector<char>> supporting(map.feet.size(), std::vector<char>(n, 0));
   std::vector<std::vector<Eigen::Vector3d>> sole(map.feet.size());
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian(6, nu);
   for (size_t t = 0; t < n; ++t) {
@@ -282,6 +285,7 @@ BalanceShift PlanBalanceShift(const MotionData& motion, const Model& model, cons
     }
     support.clear();
     for (size_t f = 0; f < map.feet.size(); ++f) {
+      supporting[f][t] = supports[f] ? 1 : 0;
       if (!supports[f]) continue;
       for (const Eigen::Vector3d& point : sole[f]) {
         if (point.z() < lowest_support + kTouchingBand) support.emplace_back(point.x(), point.y());
@@ -290,6 +294,37 @@ BalanceShift PlanBalanceShift(const MotionData& motion, const Model& model, cons
     if (!support.empty()) {
       ConvexHull(support, hulls[t]);
       Shrink(hulls[t], options.margin);
+    }
+  }
+  // A foot's support flags flicker where it passes low and slow for a frame or two mid-swing (CMU 03_03's
+  // right foot 9 mm up for 67 ms before its touchdown): runs shorter than kShortestRun are merged into their
+  // neighbours, first the supporting ones, then the airborne ones.
+  for (size_t f = 0; f < map.feet.size(); ++f) {
+    for (const char value : {char{1}, char{0}}) {
+      for (size_t t = 0; t < n;) {
+        size_t end = t;
+        while (end < n && supporting[f][end] == supporting[f][t]) ++end;
+        const bool inside = t > 0 && end < n;
+        if (supporting[f][t] == value && inside && motion.time_s[end] - motion.time_s[t - 1] < kShortestRun) {
+          std::fill(supporting[f].begin() + static_cast<std::ptrdiff_t>(t), supporting[f].begin() + static_cast<std::ptrdiff_t>(end), static_cast<char>(1 - value));
+        }
+        t = end;
+      }
+    }
+  }
+  shift.airborne_start.assign(map.feet.size(), std::vector<double>(n, -1.0));
+  shift.airborne_end.assign(map.feet.size(), std::vector<double>(n, -1.0));
+  for (size_t f = 0; f < map.feet.size(); ++f) {
+    const auto airborne = [&](size_t t) { return !(supporting[f][t] && supporting[f][std::min(t + 1, n - 1)]); };
+    for (size_t t = 0; t < n;) {
+      if (!airborne(t)) { ++t; continue; }
+      size_t last = t;
+      while (last + 1 < n && airborne(last + 1)) ++last;
+      for (size_t k = t; k <= last; ++k) {
+        shift.airborne_start[f][k] = motion.time_s[t];
+        shift.airborne_end[f][k] = motion.time_s[std::min(last + 1, n - 1)];
+      }
+      t = last + 1;
     }
   }
   // The retargeted accelerations are a spline's through per-frame solutions: the CMU walks' pelvis

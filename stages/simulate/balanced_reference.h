@@ -68,6 +68,10 @@ struct BalanceShift {
   // that foot after a swing (a touchdown; -1 if none follows): when a swinging foot lands.
   std::vector<double> time;
   std::vector<std::vector<int64_t>> next_touchdown;
+  // Per map foot and frame span (frame t to t + 1): when the span's airborne stretch began and ends (s), the
+  // run of spans in which the foot is not among the plan's supports at both ends; -1 where it supports
+  // throughout the span. A foot the source lifts but keeps on the floor (a pivot) is no swing here.
+  std::vector<std::vector<double>> airborne_start, airborne_end;
   // Every link on a foot's chain up to (not including) the base: tasks there are not shifted.
   std::vector<bool> leg_link;
   // Diagnostics: frames whose reference ZMP lay outside the shrunk support, the largest ZMP correction
