@@ -48,6 +48,10 @@ struct BalanceOptions {
   // s: σ of the Gaussian the reference's base wrench is smoothed with before its zero-moment point is
   // taken (a step lasts about 0.5 s).
   double smoothing = 0.04;
+  // deg: where the reference's base turns more than this within kTurnWindow either side of a frame, the
+  // support polygon is built from the standing soles' centre lines instead of their whole width (see the
+  // .cpp; syn-simulate --centre-line-turn). A value above any turn keeps the whole width everywhere.
+  double centre_line_turn = 30.0;
 };
 
 struct BalanceShift {

@@ -72,6 +72,11 @@ int main(int argc, char** argv) {
                  "Ground mode: how far (m) inside the feet the balance plan keeps its zero-moment point (each "
                  "support-polygon vertex moved this far toward its centroid), room for the capture-point feedback")
       ->capture_default_str();
+  app.add_option("--centre-line-turn", options.centre_line_turn,
+                 "Ground mode: where the reference's base turns more than this (deg) within half a second either side, "
+                 "the balance plan keeps its zero-moment point on the soles' centre lines, the ankles' room either way "
+                 "(1e6: never)")
+      ->capture_default_str();
   app.add_option("--moment-weight", options.moment_weight,
                  "Ground mode: where the soles cannot give the whole base wrench the controller plans, how much the "
                  "planned sole forces favour its moments over its force (1: N·m against N one to one; a brisk walk "

@@ -198,6 +198,9 @@ bool SimulateOptions::IsValid(std::string* error) const {
   if (!(support_margin >= 0 && support_margin <= 0.1)) {
     return fail("--support-margin must be in [0, 0.1] m, got " + std::to_string(support_margin));
   }
+  if (!(centre_line_turn >= 0 && centre_line_turn <= 1e6)) {
+    return fail("--centre-line-turn must be in [0, 1e6] deg, got " + std::to_string(centre_line_turn));
+  }
   if (!(swing_landing >= 0 && swing_landing <= 1)) return fail("--swing-landing must be in [0, 1], got " + std::to_string(swing_landing));
   if (!(moment_weight > 0 && moment_weight <= 100)) {
     return fail("--moment-weight must be in (0, 100], got " + std::to_string(moment_weight));
@@ -223,6 +226,7 @@ nlohmann::json SimulateOptions::ToJson() const {
           {"no_balance", !balance},
           {"balance_gain", balance_gain}, {"step_adjustment", step_adjustment},
           {"swing_lift", swing_lift}, {"support_margin", support_margin}, {"moment_weight", moment_weight},
+          {"centre_line_turn", centre_line_turn},
           {"no_swing_heading", !swing_heading}, {"swing_landing", swing_landing}};
 }
 
@@ -357,7 +361,7 @@ SimulationResult Simulate(const MotionData& input, const std::string& input_name
   BalanceShift balance;
   std::optional<BalanceController> balance_controller;
   if (ground && options.balance) {
-    balance = PlanBalanceShift(input, model, map, BalanceOptions{.margin = options.support_margin});
+    balance = PlanBalanceShift(input, model, map, BalanceOptions{.margin = options.support_margin, .centre_line_turn = options.centre_line_turn});
     references.shiftAboveLegs(balance, tasks);
     BalanceControllerOptions balance_options;
     balance_options.capture_gain = options.balance_gain;

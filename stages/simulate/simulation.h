@@ -60,6 +60,10 @@ struct SimulateOptions {
   // balance_controller.h (mean; the defaults' count in brackets): margin 0.005: (13); 0.01: 14.88 (14);
   // 0.015: (14); 0.02: 15.25 (15); 0.025: 16.25 (17); 0.03: 16.12 (15); 0.04: 16.50 (16); 0.05: 15.75 (16).
   double support_margin = BalanceOptions{}.margin;
+  // Ground mode, deg: where the reference's base turns more than this within half a second either side,
+  // the balance plan's support polygon is the standing soles' centre lines (BalanceOptions). See
+  // balanced_reference.cpp for the measurements; a value above any turn (1e6) keeps the soles' width.
+  double centre_line_turn = BalanceOptions{}.centre_line_turn;
   // Ground mode: how much the planned sole forces favour the base wrench's moments over its force where the
   // soles cannot give both (ContactConsistentOptions::moment_weight; 1: N·m against N one to one).
   double moment_weight = ContactConsistentOptions{}.moment_weight;

@@ -2,7 +2,9 @@
 // here from the plan's own centre-of-mass motion and momentum by moment balance, lies inside the support
 // polygon it names (the retargeted motion's own lies outside in most frames: the plan reports how many it
 // corrected); and the polygon geometry it uses against a direct computation.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -79,6 +81,63 @@ TEST(BalancePlan, PlannedZmpStaysInsideTheFeetOnARealWalk) {
             << " frames; largest shift " << plan.largest_shift * 1000 << " mm; the reference's zmp corrected in "
             << plan.corrected_frames << " of " << frames << " frames, by up to " << plan.largest_zmp_correction * 1000
             << " mm\n";
+}
+
+// In a turn the plan's support is the standing soles' centre lines (BalanceOptions::centre_line_turn): on
+// CMU 09_12, which turns on the spot, the frames where the reference's base heading ranges over more than
+// 30 deg within half a second either side (measured here from the free joint's quaternion, not by the
+// plan's FK) have a support polygon of less area than the soles' whole width gives, a bare segment where one
+// foot stands; every other frame has the same polygon either way.
+double Area(const std::vector<Eigen::Vector2d>& hull) {
+  double twice = 0;
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d& a = hull[i];
+    const Eigen::Vector2d& b = hull[(i + 1) % hull.size()];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  return 0.5 * std::abs(twice);
+}
+
+TEST(BalancePlan, InATurnTheSupportIsTheSolesCentreLines) {
+  SYN_REQUIRE_SHARED("cmu_bvh/09/09_12.bvh");
+  const Model model = Model::Load(SourcePath(testing::kG1Urdf));
+  const RobotMap map = LoadRobotMap(SourcePath(testing::kG1Map));
+  const MotionData walk = testing::CmuBvhOnG1(testing::SharedPath("cmu_bvh/09/09_12.bvh"));
+  BalanceOptions wide_options;
+  wide_options.centre_line_turn = 1e6;
+  const BalanceShift plan = PlanBalanceShift(walk, model, map, BalanceOptions{});
+  const BalanceShift wide = PlanBalanceShift(walk, model, map, wide_options);
+  const size_t frames = walk.time_s.size(), nq = static_cast<size_t>(walk.nq());
+  std::vector<double> heading(frames);
+  for (size_t t = 0; t < frames; ++t) {
+    const double* q = &walk.q[t * nq];  // the free joint's quaternion (w, x, y, z) first
+    heading[t] = std::atan2(2 * (q[0] * q[3] + q[1] * q[2]), 1 - 2 * (q[2] * q[2] + q[3] * q[3]));
+    while (t > 0 && heading[t] - heading[t - 1] > M_PI) heading[t] -= 2 * M_PI;
+    while (t > 0 && heading[t] - heading[t - 1] < -M_PI) heading[t] += 2 * M_PI;
+  }
+  int turning = 0, narrower = 0, segments = 0, straight = 0;
+  for (size_t t = 0; t < frames; ++t) {
+    double low = heading[t], high = heading[t];
+    for (size_t k = 0; k < frames; ++k) {
+      if (std::abs(walk.time_s[k] - walk.time_s[t]) <= 0.5) low = std::min(low, heading[k]), high = std::max(high, heading[k]);
+    }
+    const double turn = (high - low) * 180 / M_PI;
+    if (turn < 29) {
+      ++straight;
+      ASSERT_EQ(plan.support[t].size(), wide.support[t].size()) << "frame " << t;
+      for (size_t v = 0; v < plan.support[t].size(); ++v) EXPECT_EQ(plan.support[t][v], wide.support[t][v]) << "frame " << t;
+    } else if (turn > 31 && Area(wide.support[t]) > 1e-4) {
+      ++turning;
+      if (Area(plan.support[t]) < Area(wide.support[t]) - 1e-6) ++narrower;
+      if (plan.support[t].size() <= 2 && wide.support[t].size() >= 3) ++segments;
+    }
+  }
+  std::printf("09_12: %d frames turning over 30 deg with a sole flat on the floor, %d of them with a narrower support, "
+              "%d a bare segment; %d straight frames alike\n", turning, narrower, segments, straight);
+  EXPECT_GT(turning, 60) << "09_12 turns on the spot for over half a second";
+  EXPECT_GE(narrower, turning * 9 / 10);
+  EXPECT_GT(segments, 0);
+  EXPECT_GT(straight, 0);
 }
 
 }  // namespace

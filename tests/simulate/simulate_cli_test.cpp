@@ -121,7 +121,7 @@ TEST(SimulateCli, PrintParametersGivesEveryFlag) {
   const CommandResult result = RunCommandStdout(BinPath("syn-simulate") + " --print-parameters --kp 300 --no-effort-limits --balance-gain 2 --moment-weight 1.5 --no-swing-heading");
   ASSERT_EQ(result.exit_code, 0);
   EXPECT_EQ(result.output,
-            "{\"balance_gain\":2.0,\"contact\":\"none\",\"damping\":0.001,\"floating_base\":\"auto\",\"independence_cutoff\":0.7,"
+            "{\"balance_gain\":2.0,\"centre_line_turn\":30.0,\"contact\":\"none\",\"damping\":0.001,\"floating_base\":\"auto\",\"independence_cutoff\":0.7,"
             "\"integrator\":\"euler\",\"kp\":300.0,\"kv\":25.0,\"limit_frequency\":100.0,\"moment_weight\":1.5,\"no_balance\":false,\"no_effort_limits\":true,"
             "\"no_joint_limits\":false,\"no_swing_heading\":true,\"rate\":1000.0,\"step_adjustment\":0.3,\"support_margin\":0.025,\"swing_landing\":0.3,\"swing_lift\":0.04,\"targets\":\"kinematic\"}\n");
 }
