@@ -87,7 +87,7 @@ struct BalanceControllerOptions {
   // 13.4 / 13.5 / 13.4; a flat-topped profile (1 − (2s − 1)⁴) at 0.03 / 0.04 m: 11.9 / 12.4. (Those runs
   // let 05_01 and 08_07 start past their ankles' limits, plan_start.h; started inside them, 13.0 at 0.04.)
   // Session 50: the lift spanned the labelled swing (lift-off to touchdown) until then, and held CMU 03_03's
-  // right foot 2-4 cm up through the 0.47 s it pivots on the floor labelled lifted, while the plan stood on
+  // right foot 4-7 cm up through the 0.47 s it pivots on the floor labelled lifted, while the plan stood on
   // it. Spanning the airborne stretch instead, 32 rounding-level runs keep 17.62 walks up against 17.12,
   // falls per 100 steps 2.57 against 2.88 (03_01, 07_12 and 08_07 up more often; the long takes no later).
   // Also tried then, on 8 runs against 17.62: the landing shift predicted to the airborne stretch's end,

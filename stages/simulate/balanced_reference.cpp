@@ -6,6 +6,7 @@
 
 #include "common/contact_forces.h"
 #include "common/file_bytes.h"
+#include "common/motion_integration.h"
 #include "common/urdf.h"
 
 #include <Eigen/SparseCholesky>
@@ -122,19 +123,15 @@ std::vector<const ModelJoint*> FootChain(const Model& model, const std::string& 
 
 namespace {
 
-// Per frame, how far (deg) the heading of `model`'s floating base ranges within kTurnWindow either side:
+// Per frame, how far (deg) the heading of `model`'s free base ranges within kTurnWindow either side:
 // under 20° through the straight CMU walks' sway, 71° through CMU 09_12's turn on the spot. Zero for a
-// model without a floating base.
+// model without a free base.
 std::vector<double> BaseTurn(const MotionData& motion, const Model& model) {
   const size_t n = static_cast<size_t>(motion.frames());
   std::vector<double> heading(n, 0.0), turn(n, 0.0);
-  const int base = model.freeBaseLink();
-  if (base < 0) return turn;
-  Workspace workspace(model);
+  if (!model.hasFreeBase()) return turn;
   for (size_t t = 0; t < n; ++t) {
-    workspace.setQ(Eigen::Map<const Eigen::VectorXd>(&motion.q[t * static_cast<size_t>(model.nq())], model.nq()));
-    const Eigen::Matrix3d rotation = workspace.findLinkPose(base).linear();
-    heading[t] = std::atan2(rotation(1, 0), rotation(0, 0));
+    heading[t] = BaseYaw(&motion.q[t * static_cast<size_t>(model.nq())]);  // the free joint's quaternion leads q
     if (t > 0) heading[t] = heading[t - 1] + std::remainder(heading[t] - heading[t - 1], 2 * M_PI);  // unwrapped
   }
   for (size_t t = 0, first = 0, last = 0; t < n; ++t) {
@@ -145,6 +142,47 @@ std::vector<double> BaseTurn(const MotionData& motion, const Model& model) {
     turn[t] = (*high - *low) * 180.0 / M_PI;
   }
   return turn;
+}
+
+// From each foot's per-frame support flags (the plan's supports), BalanceShift::airborne_start/_end. The flags
+// flicker where a foot passes low and slow for a frame or two mid-swing (CMU 03_03's right foot 9 mm up for
+// 67 ms before its touchdown): runs shorter than kShortestRun are merged into their neighbours, first the
+// supporting ones, then the airborne ones.
+void AirborneStretches(const std::vector<double>& time, std::vector<std::vector<char>>& supporting,
+                       std::vector<std::vector<double>>& start, std::vector<std::vector<double>>& end) {
+  const size_t n = time.size();
+  for (std::vector<char>& flags : supporting) {
+    for (const char value : {char{1}, char{0}}) {
+      for (size_t t = 0; t < n;) {
+        size_t after = t;
+        while (after < n && flags[after] == flags[t]) ++after;
+        const bool inside = t > 0 && after < n;
+        if (flags[t] == value && inside && time[after] - time[t - 1] < kShortestRun) {
+          std::fill(flags.begin() + static_cast<std::ptrdiff_t>(t), flags.begin() + static_cast<std::ptrdiff_t>(after),
+                    static_cast<char>(1 - value));
+        }
+        t = after;
+      }
+    }
+  }
+  start.assign(supporting.size(), std::vector<double>(n, -1.0));
+  end.assign(supporting.size(), std::vector<double>(n, -1.0));
+  for (size_t f = 0; f < supporting.size(); ++f) {
+    const std::vector<char>& flags = supporting[f];
+    const auto airborne = [&](size_t t) { return !(flags[t] && flags[std::min(t + 1, n - 1)]); };
+    for (size_t t = 0; t < n;) {
+      if (!airborne(t)) {
+        ++t;
+        continue;
+      }
+      size_t last = t;
+      while (last + 1 < n && airborne(last + 1)) ++last;
+      std::fill(start[f].begin() + static_cast<std::ptrdiff_t>(t), start[f].begin() + static_cast<std::ptrdiff_t>(last) + 1, time[t]);
+      std::fill(end[f].begin() + static_cast<std::ptrdiff_t>(t), end[f].begin() + static_cast<std::ptrdiff_t>(last) + 1,
+                time[std::min(last + 1, n - 1)]);
+      t = last + 1;
+    }
+  }
 }
 
 // Each vertex moved `margin` towards the centroid (at most to it): the polygon the planned ZMP keeps to.
@@ -334,37 +372,7 @@ BalanceShift PlanBalanceShift(const MotionData& motion, const Model& model, cons
       Shrink(hulls[t], options.margin);
     }
   }
-  // A foot's support flags flicker where it passes low and slow for a frame or two mid-swing (CMU 03_03's
-  // right foot 9 mm up for 67 ms before its touchdown): runs shorter than kShortestRun are merged into their
-  // neighbours, first the supporting ones, then the airborne ones.
-  for (size_t f = 0; f < map.feet.size(); ++f) {
-    for (const char value : {char{1}, char{0}}) {
-      for (size_t t = 0; t < n;) {
-        size_t end = t;
-        while (end < n && supporting[f][end] == supporting[f][t]) ++end;
-        const bool inside = t > 0 && end < n;
-        if (supporting[f][t] == value && inside && motion.time_s[end] - motion.time_s[t - 1] < kShortestRun) {
-          std::fill(supporting[f].begin() + static_cast<std::ptrdiff_t>(t), supporting[f].begin() + static_cast<std::ptrdiff_t>(end), static_cast<char>(1 - value));
-        }
-        t = end;
-      }
-    }
-  }
-  shift.airborne_start.assign(map.feet.size(), std::vector<double>(n, -1.0));
-  shift.airborne_end.assign(map.feet.size(), std::vector<double>(n, -1.0));
-  for (size_t f = 0; f < map.feet.size(); ++f) {
-    const auto airborne = [&](size_t t) { return !(supporting[f][t] && supporting[f][std::min(t + 1, n - 1)]); };
-    for (size_t t = 0; t < n;) {
-      if (!airborne(t)) { ++t; continue; }
-      size_t last = t;
-      while (last + 1 < n && airborne(last + 1)) ++last;
-      for (size_t k = t; k <= last; ++k) {
-        shift.airborne_start[f][k] = motion.time_s[t];
-        shift.airborne_end[f][k] = motion.time_s[std::min(last + 1, n - 1)];
-      }
-      t = last + 1;
-    }
-  }
+  AirborneStretches(motion.time_s, supporting, shift.airborne_start, shift.airborne_end);
   // The retargeted accelerations are a spline's through per-frame solutions: the CMU walks' pelvis
   // reaches 123 m/s² in its first frames and the vertical force falls to zero for a frame here and
   // there, a zero-moment point metres away. What a robot must balance is the wrench's trend.

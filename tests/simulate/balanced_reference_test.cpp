@@ -85,8 +85,8 @@ TEST(BalancePlan, PlannedZmpStaysInsideTheFeetOnARealWalk) {
 
 // In a turn the plan's support is the standing soles' centre lines (BalanceOptions::centre_line_turn): on
 // CMU 09_12, which turns on the spot, the frames where the reference's base heading ranges over more than
-// 30 deg within half a second either side (measured here from the free joint's quaternion, not by the
-// plan's FK) have a support polygon of less area than the soles' whole width gives, a bare segment where one
+// 30 deg within half a second either side (measured here by the test's own formula on the free joint's
+// quaternion, not common/'s BaseYaw the plan uses) have a support polygon of less area than the soles' whole width gives, a bare segment where one
 // foot stands; every other frame has the same polygon either way.
 double Area(const std::vector<Eigen::Vector2d>& hull) {
   double twice = 0;
