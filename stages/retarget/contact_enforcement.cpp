@@ -406,6 +406,34 @@ void MeasureOverspeed(const Model& model, const std::vector<LegChain>& chains, c
   }
 }
 
+// The planted legs' joints against their position limits over the result, into the report's stance-limit
+// fields. chains[f] is foot f's leg.
+void MeasureLimitedStance(const Model& model, const std::vector<LegChain>& chains, const FootContacts& contacts,
+                          const std::vector<double>& q, ContactEnforcementReport& out) {
+  const int64_t nq = model.nq(), frames = static_cast<int64_t>(q.size()) / nq;
+  std::vector<int64_t> per_coordinate(static_cast<size_t>(nq), 0);
+  for (int64_t t = 0; t < frames; ++t) {
+    for (size_t f = 0; f < chains.size(); ++f) {
+      if (!contacts.planted(t, f)) continue;
+      ++out.planted_foot_frames;
+      bool limited = false;
+      for (const int i : chains[f].q_index) {
+        const double value = q[static_cast<size_t>(t * nq + i)];
+        if (value - model.qLower()[i] < kStanceLimitBand || model.qUpper()[i] - value < kStanceLimitBand) {
+          limited = true;
+          ++per_coordinate[static_cast<size_t>(i)];
+        }
+      }
+      if (limited) ++out.limited_stance_frames;
+    }
+  }
+  const auto most = std::max_element(per_coordinate.begin(), per_coordinate.end());
+  if (most != per_coordinate.end() && *most > 0) {
+    out.most_limited_joint = model.coordinateNames()[static_cast<size_t>(most - per_coordinate.begin())];
+    out.most_limited_joint_frames = *most;
+  }
+}
+
 using Vector6d = Eigen::Matrix<double, 6, 1>;  // a base correction: rotation vector, translation (ground frame)
 
 Correction AsCorrection(const Vector6d& correction) { return {correction.tail<3>(), correction.head<3>()}; }
@@ -1161,6 +1189,7 @@ void EnforceContacts(const Model& model, Workspace& workspace, const std::vector
   }
   out.mean_iterations = out.solved_frames ? static_cast<double>(iterations) / static_cast<double>(out.solved_frames) : 0.0;
   MeasureOverspeed(model, chains, time_s, q, out);
+  MeasureLimitedStance(model, chains, contacts, q, out);
 }
 
 }  // namespace syn

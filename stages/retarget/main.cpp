@@ -277,6 +277,10 @@ int main(int argc, char** argv) {
       writer.writeAttribute("", "worst_speed_ratio", summary.enforcement.worst_speed_ratio);
       writer.writeAttribute("", "worst_speed_joint", summary.enforcement.worst_speed_joint);
       writer.writeAttribute("", "worst_speed_time_s", summary.enforcement.worst_speed_time);
+      // Stances held with a leg joint on its limit (contact_enforcement.h).
+      writer.writeAttribute("", "planted_foot_frames", summary.enforcement.planted_foot_frames);
+      writer.writeAttribute("", "limited_stance_frames", summary.enforcement.limited_stance_frames);
+      writer.writeAttribute("", "most_limited_joint", summary.enforcement.most_limited_joint);
     }
     writer.commit();
     std::cerr << "syn-retarget: " << input << " -> " << common.output << ": " << summary.BriefReport() << "\n";

@@ -773,6 +773,11 @@ std::string RetargetSummary::BriefReport() const {
         out << " (worst " << enforcement.worst_speed_ratio << "x, " << enforcement.worst_speed_joint << " at "
             << std::to_string(enforcement.worst_speed_time) << " s)";
       }
+      out << ", planted legs with a joint on its limit in " << enforcement.limited_stance_frames << " of "
+          << enforcement.planted_foot_frames << " planted foot-frames";
+      if (!enforcement.most_limited_joint.empty()) {
+        out << " (most " << enforcement.most_limited_joint << ", " << enforcement.most_limited_joint_frames << ")";
+      }
     }
   }
   if (forces_split) {

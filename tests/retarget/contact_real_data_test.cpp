@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -19,9 +20,12 @@
 #include <unistd.h>
 #include <vector>
 
+#include <tinyxml2.h>
+
 #include "common/file_bytes.h"
 #include "common/intermediate_file.h"
 #include "common/markers_file.h"
+#include "common/robot_map.h"
 #include "common/foot_sliding.h"
 #include "stages/ingest/ingest.h"
 #include "stages/retarget/retarget.h"
@@ -641,6 +645,83 @@ TEST(RetargetContacts, TerrainWalksAreReplayedOnTheFlatFloor) {
   EXPECT_EQ(flattened.contact, as_captured.contact);
   const ContactCheck check = CheckContacts(flattened, robot, testing::IndependentFk(robot.urdf), true);
   ExpectWithinFloorAndDriftBounds(check);
+}
+
+// Per leg (the joints from `foot_link` up to `pelvis_link`, read from the URDF text) the position limits: the
+// URDF's, narrowed by the robot map's [joint_ranges]. Independent of the stage's chain and model.
+std::map<std::string, std::array<double, 2>> LegLimits(const std::string& urdf, const RobotMap& map, const std::string& foot_link,
+                                                       const std::string& pelvis_link) {
+  tinyxml2::XMLDocument document;
+  EXPECT_EQ(document.LoadFile(urdf.c_str()), tinyxml2::XML_SUCCESS);
+  std::map<std::string, const tinyxml2::XMLElement*> joint_of_child;
+  for (const tinyxml2::XMLElement* joint = document.RootElement()->FirstChildElement("joint"); joint != nullptr;
+       joint = joint->NextSiblingElement("joint")) {
+    joint_of_child[joint->FirstChildElement("child")->Attribute("link")] = joint;
+  }
+  std::map<std::string, std::array<double, 2>> limits;
+  for (std::string link = foot_link; link != pelvis_link && joint_of_child.count(link) > 0;) {
+    const tinyxml2::XMLElement* joint = joint_of_child.at(link);
+    const tinyxml2::XMLElement* limit = joint->FirstChildElement("limit");
+    if (std::string(joint->Attribute("type")) != "fixed" && limit != nullptr) {
+      std::array<double, 2> range = {limit->DoubleAttribute("lower"), limit->DoubleAttribute("upper")};
+      const auto narrowed = map.joint_ranges.find(joint->Attribute("name"));
+      if (narrowed != map.joint_ranges.end()) {
+        range = {std::max(range[0], narrowed->second[0]), std::min(range[1], narrowed->second[1])};
+      }
+      limits[joint->Attribute("name")] = range;
+    }
+    link = joint->FirstChildElement("parent")->Attribute("link");
+  }
+  return limits;
+}
+
+// A stance held with a leg joint on its position limit has no room to move further that way: CMU 09_12's
+// turns onto G1 hold a stance ankle on its ±15° roll limit (18 % of its planted foot-frames, session 51; the
+// 18 straight CMU walks none). syn-retarget reports how many planted foot-frames do; an independent count
+// over the output's q, the source's contacts and the limits read from the URDF text and the map agrees,
+// joint by joint.
+TEST(RetargetContacts, StancesOnAJointLimitAreCountedAsTheUrdfsLimitsFindThem) {
+#ifdef SYN_SANITIZED_BUILD
+  GTEST_SKIP() << "real-data retargets run in the Release test run, not under the sanitizers";
+#endif
+  SYN_REQUIRE_SHARED("cmu_bvh/09/09_12.bvh");
+  const ScratchDir scratch("stance_limits");
+  const Robot robot = G1();
+  RetargetSummary summary;
+  const MotionData motion = RetargetFile(CmuMarkers("09/09_12.bvh", scratch.file("capture.markers.h5")), CmuOptions(robot), &summary);
+  const RobotMap map = LoadRobotMap(robot.map);
+  const size_t nq = motion.coordinate_names.size(), feet = motion.contact_feet.size();
+  ASSERT_EQ(feet, robot.foot_links.size());
+  int64_t planted = 0, limited = 0;
+  std::map<std::string, int64_t> per_joint;
+  for (size_t f = 0; f < feet; ++f) {
+    const auto limits = LegLimits(robot.urdf, map, robot.foot_links[f], robot.pelvis_link);
+    EXPECT_EQ(limits.size(), 6u);  // hip pitch, roll, yaw, knee, ankle pitch, roll
+    for (int64_t t = 0; t < motion.frames(); ++t) {
+      if (motion.contact[static_cast<size_t>(t) * feet + f] == 0) continue;
+      ++planted;
+      bool any = false;
+      for (const auto& [joint, range] : limits) {
+        const size_t column = static_cast<size_t>(std::find(motion.coordinate_names.begin(), motion.coordinate_names.end(), joint) -
+                                                  motion.coordinate_names.begin());
+        ASSERT_LT(column, nq) << joint;
+        const double value = motion.q[static_cast<size_t>(t) * nq + column];
+        if (value - range[0] < 0.01 || range[1] - value < 0.01) any = true, ++per_joint[joint];
+      }
+      limited += any ? 1 : 0;
+    }
+  }
+  const auto most = std::max_element(per_joint.begin(), per_joint.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  std::fprintf(stderr, "09_12 onto G1: planted legs with a joint on its limit in %lld of %lld planted foot-frames (most %s, %lld)\n",
+               static_cast<long long>(limited), static_cast<long long>(planted),
+               most == per_joint.end() ? "none" : most->first.c_str(), static_cast<long long>(most == per_joint.end() ? 0 : most->second));
+  EXPECT_EQ(summary.enforcement.planted_foot_frames, planted);
+  EXPECT_EQ(summary.enforcement.limited_stance_frames, limited);
+  ASSERT_NE(most, per_joint.end());
+  EXPECT_EQ(summary.enforcement.most_limited_joint, most->first);
+  EXPECT_EQ(summary.enforcement.most_limited_joint_frames, most->second);
+  EXPECT_GT(limited, planted / 20);  // the turns are such stances
+  EXPECT_NE(summary.BriefReport().find("planted legs with a joint on its limit in " + std::to_string(limited)), std::string::npos);
 }
 
 // CMU 94_07's right foot swivels 200° about the vertical in 50 ms (a twist in the BVH flipping) and stays
