@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "common/file_bytes.h"
+#include "stages/ingest/bvh_reader.h"
 #include "stages/ingest/c3d_reader.h"
 #include "stages/ingest/motive_csv_reader.h"
 #include "stages/ingest/npy_reader.h"
@@ -286,6 +287,14 @@ TEST(FuzzRegressions, EachEndsInADataError) {
       // c3d_parameter_dimensions_overflow.c3d: a parameter whose dimensions multiply past size_t; the
       // wrapped count passed the bounds check and its values were read past the end of the file.
       EXPECT_THROW((void)ParseC3d(bytes.data(), bytes.size(), "r.c3d"), DataError);
+    }
+    if (entry.path().extension() == ".bvh") {
+      // bvh_one_frame_dropped.bvh: a take of one frame read with its first frame dropped; the lead-in check
+      // after the drop read the frame after it, past the end of the values.
+      BvhOptions drop;
+      drop.drop_first_frame = true;
+      EXPECT_THROW((void)ParseBvh(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), "r.bvh", drop),
+                   DataError);
     }
     if (entry.path().extension() == ".trc") {
       EXPECT_THROW((void)ParseTrc(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), "r.trc"),
