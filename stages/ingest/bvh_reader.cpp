@@ -333,11 +333,11 @@ MarkerData ParseBvh(std::string_view text, const std::string& source_name, const
     data.bodies.push_back(joint.name);
     data.body_parents.push_back(joint.parent < 0 ? "" : joints[static_cast<size_t>(joint.parent)].name);
   }
-  int64_t first = options.drop_first_frame && frames_read > 0 ? 1 : 0;
-  if (first >= frames_read && frames_read > 0) {
+  if (options.drop_first_frame && frames_read == 1) {
     throw DataError(Location::InFile(source_name),
                     "the file's only frame is the reference frame that dropping the first frame removes: no frame is left");
   }
+  int64_t first = options.drop_first_frame && frames_read > 0 ? 1 : 0;
   // Some of those conversions carry a second reference frame after the first, every channel exactly zero
   // (CMU 07_12: the skeleton at the origin, 40 cm from where the take starts): not part of the take either.
   const auto all_zero = [&](int64_t frame) {

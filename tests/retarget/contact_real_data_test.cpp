@@ -697,16 +697,19 @@ TEST(RetargetContacts, StancesOnAJointLimitAreCountedAsTheUrdfsLimitsFindThem) {
   for (size_t f = 0; f < feet; ++f) {
     const auto limits = LegLimits(robot.urdf, map, robot.foot_links[f], robot.pelvis_link);
     EXPECT_EQ(limits.size(), 6u);  // hip pitch, roll, yaw, knee, ankle pitch, roll
+    std::map<std::string, size_t> column;  // each leg joint's column of q
+    for (const auto& [joint, range] : limits) {
+      column[joint] = static_cast<size_t>(std::find(motion.coordinate_names.begin(), motion.coordinate_names.end(), joint) -
+                                          motion.coordinate_names.begin());
+      ASSERT_LT(column[joint], nq) << joint;
+    }
     for (int64_t t = 0; t < motion.frames(); ++t) {
       if (motion.contact[static_cast<size_t>(t) * feet + f] == 0) continue;
       ++planted;
       bool any = false;
       for (const auto& [joint, range] : limits) {
-        const size_t column = static_cast<size_t>(std::find(motion.coordinate_names.begin(), motion.coordinate_names.end(), joint) -
-                                                  motion.coordinate_names.begin());
-        ASSERT_LT(column, nq) << joint;
-        const double value = motion.q[static_cast<size_t>(t) * nq + column];
-        if (value - range[0] < 0.01 || range[1] - value < 0.01) any = true, ++per_joint[joint];
+        const double value = motion.q[static_cast<size_t>(t) * nq + column.at(joint)];
+        if (value - range[0] < kStanceLimitBand || range[1] - value < kStanceLimitBand) any = true, ++per_joint[joint];
       }
       limited += any ? 1 : 0;
     }
